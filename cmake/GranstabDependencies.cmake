@@ -1,0 +1,17 @@
+# Every dependency is a Debian package (DEPS.md); this file is the one place that finds them.
+find_package(Eigen3 3.4 REQUIRED CONFIG)
+find_package(OpenMP REQUIRED COMPONENTS CXX)
+find_package(CHOLMOD REQUIRED)
+find_package(UMFPACK REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(IPOPT REQUIRED IMPORTED_TARGET ipopt)
+find_package(Spectra REQUIRED CONFIG)
+find_package(CLI11 REQUIRED CONFIG)
+find_package(tomlplusplus REQUIRED CONFIG)
+find_package(GTest REQUIRED CONFIG)
+if(GRANSTAB_BUILD_BENCH)
+  find_package(benchmark REQUIRED CONFIG)
+endif()
+# Plots use Debian's interpreter, which has matplotlib (DEPS.md #6).
+set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Python with matplotlib")
+find_package(Python3 COMPONENTS Interpreter)

@@ -1,0 +1,16 @@
+include(GoogleTest)
+# granstab_add_test(NAME SOURCES src... LIBS lib... [THREADS n] [LABELS l...])
+# Every test runs with OMP_NUM_THREADS set explicitly (2-core machine; DEPS.md #8).
+function(granstab_add_test name)
+  cmake_parse_arguments(T "" "THREADS" "SOURCES;LIBS;LABELS" ${ARGN})
+  if(NOT T_THREADS)
+    set(T_THREADS 1)
+  endif()
+  add_executable(${name} ${T_SOURCES})
+  target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main)
+  gtest_discover_tests(${name}
+    DISCOVERY_MODE PRE_TEST
+    WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}
+    PROPERTIES ENVIRONMENT "OMP_NUM_THREADS=${T_THREADS};GRANSTAB_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
+               LABELS "${T_LABELS}")
+endfunction()

@@ -1,0 +1,1 @@
+// The MD engine (issue #3) lives here.

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs granstab's Debian dependencies (DEPS.md) when any is missing; a no-op run takes ~1 s.
+set -euo pipefail
+packages=(g++ cmake make pkg-config libeigen3-dev libsuitesparse-dev coinor-libipopt-dev
+  libspectra-dev libcli11-dev libtomlplusplus-dev libgtest-dev libgmock-dev libbenchmark-dev
+  python3-matplotlib python3-munkres)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+echo "granstab: installing ${missing[*]}" >&2
+$SUDO apt-get update -qq
+$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+  -o DPkg::Lock::Timeout=300 "${missing[@]}" >/dev/null

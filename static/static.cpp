@@ -1,0 +1,1 @@
+// The contact-network solver (issue #5) lives here.
