@@ -1,13 +1,23 @@
-// The granstab command line: thin subcommands over the libraries (no physics here).
+// The granstab command line. Subcommands register themselves from drivers/command_*.cpp.
 #include <CLI/CLI.hpp>
+#include <exception>
 #include <iostream>
+
+#include "commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"granstab: quasistatic deformation of 2D granular packings, by molecular dynamics "
                "and by contact-network stability analysis"};
   app.require_subcommand(1);
-  auto* version = app.add_subcommand("version", "Print the granstab version");
-  version->callback([] { std::cout << "granstab " << GRANSTAB_VERSION << "\n"; });
-  CLI11_PARSE(app, argc, argv);
+  granstab::cli::add_version_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    // Library errors name the file, line or field; the driver adds only the program name.
+    std::cerr << "granstab: error: " << e.what() << "\n";
+    return 1;
+  }
   return 0;
 }

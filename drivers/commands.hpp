@@ -1,0 +1,13 @@
+#pragma once
+// One function per subcommand, each in its own drivers/command_<name>.cpp: it declares its options
+// on the CLI11 subcommand and sets the callback. Drivers parse, build objects, call the libraries
+// and write outputs; no physics lives here.
+namespace CLI {
+class App;
+}
+
+namespace granstab::cli {
+
+void add_version_command(CLI::App& app);
+
+}  // namespace granstab::cli
