@@ -1,1 +1,0 @@
-// The contact-network solver (issue #5) lives here.

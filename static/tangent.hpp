@@ -1,0 +1,38 @@
+#pragma once
+// The tangent stiffness K = -dR/dq of STATIC.md §S1, assembled from triplets contact by contact.
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "static/kinematics.hpp"
+
+namespace granstab::statics {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+struct TangentParts {
+  bool material = true;   // B^T k B per status
+  bool geometric = true;  // rotation of the loaded contact frames and the lever arms a = R - h/2
+  bool load = true;       // work of the Cauchy stresses on the deforming cell
+};
+
+// Local 8 x 8 stiffness of one contact (slots of ContactRows) for the given status. The stick
+// term is K_T B_T(q)^T B_T(q0), exact at any q with the start-of-step measure.
+using LocalMatrix = std::array<std::array<double, n_local>, n_local>;
+LocalMatrix contact_stiffness(const Network& net, const ContactState& state, ContactStatus status,
+                              const TangentParts& parts = {});
+
+// K_load: d(-F_ext)/dq, nonzero only on (e1, e2) under the Cauchy measure.
+void add_load_stiffness(const Network& net, std::vector<Eigen::Triplet<double>>& triplets);
+
+// K at the states' point with the given statuses (one per contact; the statuses decide the
+// material part only, the forces in the states decide the geometric part).
+SparseMatrix assemble_tangent(const Network& net, const std::vector<ContactState>& states,
+                              const std::vector<ContactStatus>& statuses,
+                              const TangentParts& parts = {});
+
+// The same with each contact's own status (the corrector's consistent tangent).
+SparseMatrix assemble_tangent(const Network& net, const std::vector<ContactState>& states,
+                              const TangentParts& parts = {});
+
+}  // namespace granstab::statics
