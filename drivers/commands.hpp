@@ -9,5 +9,6 @@ class App;
 namespace granstab::cli {
 
 void add_version_command(CLI::App& app);
+void add_info_command(CLI::App& app);
 
 }  // namespace granstab::cli

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
                "and by contact-network stability analysis"};
   app.require_subcommand(1);
   granstab::cli::add_version_command(app);
+  granstab::cli::add_info_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

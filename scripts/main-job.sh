@@ -7,3 +7,4 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 granstab="${BUILD_DIR:-$root/build}/drivers/granstab"
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
 "$granstab" version
+"$granstab" info "$root/data/samples/tiny-triangular-periodic.granstab"
