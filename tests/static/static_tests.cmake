@@ -4,3 +4,9 @@ target_link_libraries(granstab_static_testing PUBLIC granstab_static)
 granstab_add_test(test_tangent_fd
   SOURCES test_tangent_fd.cpp
   LIBS granstab_static_testing)
+granstab_add_test(test_tangent_invariants
+  SOURCES test_tangent_invariants.cpp
+  LIBS granstab_static_testing)
+granstab_add_test(test_lattice_and_work
+  SOURCES test_lattice_and_work.cpp
+  LIBS granstab_static_testing)
