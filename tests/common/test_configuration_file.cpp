@@ -291,6 +291,23 @@ TEST(ConfigurationFile, BaseTextIsValid) {
   EXPECT_DOUBLE_EQ(c.contacts.delta_t[0], 1e-5);
 }
 
+TEST(ConfigurationFile, DocumentedExampleIsValid) {
+  // The example of docs/file-format.md: the first ``` block after "## Example".
+  std::ifstream in(fs::path(GRANSTAB_DOCS_DIR) / "file-format.md");
+  std::ostringstream doc;
+  doc << in.rdbuf();
+  const std::string text = doc.str();
+  const auto example = text.find("## Example");
+  ASSERT_NE(example, std::string::npos);
+  const auto open = text.find("```\n", example);
+  const auto close = text.find("```", open + 4);
+  ASSERT_NE(close, std::string::npos);
+  const std::string block = text.substr(open + 4, close - open - 4);
+  EXPECT_EQ(block, join(base_lines)) << "keep the documented example and base_lines in step";
+  const Configuration c = parse_configuration(block, "file-format.md");
+  EXPECT_EQ(c.contacts.k1[0], -1);
+}
+
 TEST(ConfigurationFile, RejectsTruncatedFiles) {
   expect_rejected(first_lines(22), 22, "unexpected end of file, expected disk 1");
   expect_rejected(first_lines(25), 25, "unexpected end of file, expected contact 0");
