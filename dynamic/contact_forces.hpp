@@ -1,0 +1,37 @@
+#pragma once
+// Contact forces of one step from the common contact law (common/contact_law.hpp, SPEC §1.1).
+// Each pair's force is computed into per-pair slots (parallel over fixed blocks of disks), then
+// every disk sums its pairs in ascending partner order: the result is independent of the thread
+// count and of when the Verlet list was last rebuilt (open pairs contribute exact zeros).
+#include <vector>
+
+#include "common/material.hpp"
+#include "state.hpp"
+
+namespace granstab::dynamic {
+
+struct ForceInputs {
+  const Material* material = nullptr;
+  bool periodic = true;
+  std::array<double, 2> length{1.0, 1.0};
+  // Time over which the tangential displacement is incremented (0: evaluate the state as is).
+  double dt = 0.0;
+  // Velocities entering the tangential increment (mid-step) and the viscous force (end of step):
+  // periodic cells, affine strain rates dL_a/dt / L_a; walls, velocities of the mobile walls.
+  std::array<double, 2> rate_tangential{0.0, 0.0};
+  std::array<double, 2> rate_viscous{0.0, 0.0};
+  const double* vx_viscous = nullptr;  // disk velocities for the viscous force
+  const double* vy_viscous = nullptr;
+};
+
+// Elastic, frictional and viscous forces; updates delta_t of pairs and walls. Sums (stress,
+// wall forces) of the whole sample are returned; blocks is scratch space.
+BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+                                 std::vector<BlockSums>& blocks);
+
+// The viscous forces alone, for the velocities in.vx_viscous / in.rate_viscous, with the
+// contact geometry of the last compute_contact_forces (fills disks.fvx, fvy).
+BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+                                 std::vector<BlockSums>& blocks);
+
+}  // namespace granstab::dynamic

@@ -1,1 +1,0 @@
-// The MD engine (issue #3) lives here.

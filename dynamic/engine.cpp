@@ -1,0 +1,409 @@
+#include "engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "cell_control.hpp"
+#include "common/contact_law.hpp"
+#include "integrator.hpp"
+
+namespace granstab {
+
+using dynamic::BlockSums;
+using dynamic::ForceInputs;
+
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+void check_axis(int axis) {
+  require(axis == 0 || axis == 1, "engine: axis must be 0 or 1, got " + std::to_string(axis));
+}
+
+}  // namespace
+
+Engine::Engine(const Configuration& config, const EngineOptions& options)
+    : options_(options), material_(config.material), stage_(config.stage),
+      neighbours_(options.skin), time_(config.time), step_(config.step),
+      rng_state_(config.rng_state) {
+  validate(config.material);
+  validate(config.cell);
+  const Disks& in = config.disks;
+  const std::size_t n = in.size();
+  require(n >= 1, "configuration: no disks");
+  for (auto* v : {&in.y, &in.radius, &in.mass, &in.inertia, &in.vx, &in.vy, &in.omega, &in.theta}) {
+    require(v->size() == n, "configuration.disks: all fields must have N = " +
+                                std::to_string(n) + " entries");
+  }
+  require(std::isfinite(options.dt_fraction) && options.dt_fraction > 0.0,
+          "engine options: dt_fraction must be > 0");
+  require(std::isfinite(options.skin) && options.skin > 0.0, "engine options: skin must be > 0");
+
+  cell_.boundary = config.cell.boundary;
+  cell_.length = config.cell.length;
+  cell_.length_rate = config.cell.length_rate;
+  cell_.mass = config.cell.mass;
+
+  disks_.x = in.x;
+  disks_.y = in.y;
+  disks_.vx = in.vx;
+  disks_.vy = in.vy;
+  disks_.omega = in.omega;
+  disks_.theta = in.theta;
+  disks_.radius = in.radius;
+  disks_.mass = in.mass;
+  disks_.inertia = in.inertia;
+  disks_.inv_mass.resize(n);
+  disks_.inv_inertia.resize(n);
+  disks_.alpha_wall.resize(n);
+  double m_min = INFINITY;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string at = "configuration.disks[" + std::to_string(i) + "]";
+    require(std::isfinite(in.x[i]) && std::isfinite(in.y[i]), at + ": position must be finite");
+    require(in.radius[i] > 0.0 && in.mass[i] > 0.0 && in.inertia[i] > 0.0,
+            at + ": radius, mass and inertia must be > 0");
+    disks_.inv_mass[i] = 1.0 / in.mass[i];
+    disks_.inv_inertia[i] = 1.0 / in.inertia[i];
+    m_min = std::min(m_min, in.mass[i]);
+    if (cell_.periodic()) {
+      disks_.x[i] = dynamic::wrap(disks_.x[i] - std::floor(disks_.x[i] / cell_.length[0]) *
+                                                    cell_.length[0],
+                                  cell_.length[0]);
+      disks_.y[i] = dynamic::wrap(disks_.y[i] - std::floor(disks_.y[i] / cell_.length[1]) *
+                                                    cell_.length[1],
+                                  cell_.length[1]);
+    }
+  }
+  for (auto* v : {&disks_.vpx, &disks_.vpy, &disks_.fx, &disks_.fy, &disks_.torque, &disks_.fvx,
+                  &disks_.fvy}) {
+    v->assign(n, 0.0);
+  }
+  for (auto& w : disks_.wall_delta_t) w.assign(n, 0.0);
+  for (auto& w : disks_.wall_f_v) w.assign(n, 0.0);
+  for (auto& w : disks_.wall_closed) w.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    disks_.alpha_wall[i] = material_.damping_coefficient(in.mass[i], INFINITY);
+  }
+  time_scale_ = std::sqrt(m_min / material_.k_n);
+  dt_ = options.dt_fraction * time_scale_;
+
+  neighbours_.rebuild(disks_, cell_, pairs_, material_);
+  import_contacts(config.contacts);
+  evaluate_state();
+}
+
+void Engine::import_contacts(const Contacts& c) {
+  const int n = static_cast<int>(disks_.size());
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const std::string at = "configuration.contacts[" + std::to_string(k) + "]";
+    const int i = c.i[k], j = c.j[k];
+    require(i >= 0 && i < n, at + ": i out of range");
+    if (is_wall(j)) {
+      require(!cell_.periodic(), at + ": wall contact in a periodic cell");
+      require(j >= wall_top, at + ": unknown wall " + std::to_string(j));
+      disks_.wall_delta_t[-j - 1][i] = c.delta_t[k];
+      continue;
+    }
+    require(j < n && j != i, at + ": j out of range");
+    // delta_t is unchanged when i and j swap (n and t both flip), so (min, max) carries it.
+    const int a = std::min(i, j), b = std::max(i, j);
+    const auto first = pairs_.j.begin() + pairs_.row_start[a];
+    const auto last = pairs_.j.begin() + pairs_.row_start[a + 1];
+    const auto it = std::lower_bound(first, last, b);
+    // A listed contact beyond the skin is open: its state is dropped (SPEC §1.1).
+    if (it != last && *it == b) pairs_.delta_t[it - pairs_.j.begin()] = c.delta_t[k];
+  }
+}
+
+ForceInputs Engine::force_inputs(double dt_tangential, bool mid_step) const {
+  ForceInputs in;
+  in.material = &material_;
+  in.periodic = cell_.periodic();
+  in.length = cell_.length;
+  in.dt = dt_tangential;
+  for (int a = 0; a < 2; ++a) {
+    const double scale = in.periodic ? 1.0 / cell_.length[a] : 1.0;
+    in.rate_tangential[a] = cell_.length_rate[a] * scale;
+    in.rate_viscous[a] = (mid_step ? cell_.rate_predicted[a] : cell_.length_rate[a]) * scale;
+  }
+  in.vx_viscous = mid_step ? disks_.vpx.data() : disks_.vx.data();
+  in.vy_viscous = mid_step ? disks_.vpy.data() : disks_.vy.data();
+  return in;
+}
+
+void Engine::evaluate_state() {
+  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(0.0, false), blocks_);
+  control_cell();
+}
+
+void Engine::control_cell() {
+  const dynamic::ControlForces f =
+      dynamic::control_forces(cell_, sums_, options_.viscous_forces_drive_cell);
+  cell_.length_acceleration = dynamic::length_acceleration(cell_, stage_, f);
+}
+
+void Engine::refresh_viscous_forces() {
+  if (material_.zeta == 0.0) return;  // the viscous slots are exact zeros already
+  const BlockSums v =
+      dynamic::compute_viscous_forces(disks_, pairs_, force_inputs(0.0, false), blocks_);
+  sums_.sigma_viscous = v.sigma_viscous;
+  sums_.wall_force_viscous = v.wall_force_viscous;
+  control_cell();
+}
+
+// Velocity Verlet. The first half kick and the drift belong to the integrator; the forces at
+// t + dt need the velocities at t + dt only through the viscous term, which is evaluated with
+// predicted velocities and then refreshed with the final ones so that the cached forces are a
+// function of the synchronous state (docs/dynamic.md).
+void Engine::step() {
+  dynamic::kick_drift(disks_, cell_, stage_, dt_, neighbours_);
+  neighbours_.update(disks_, cell_, pairs_, material_);
+  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(dt_, true), blocks_);
+  control_cell();
+  dynamic::kick(disks_, cell_, stage_, dt_);
+  refresh_viscous_forces();
+  ++step_;
+  time_ += dt_;
+}
+
+void Engine::run(std::uint64_t steps) {
+  for (std::uint64_t s = 0; s < steps; ++s) step();
+}
+
+void Engine::set_dt(double dt) {
+  require(std::isfinite(dt) && dt > 0.0, "engine: dt must be finite and > 0");
+  dt_ = dt;
+}
+
+void Engine::set_stage(const Stage& stage) {
+  for (int a = 0; a < 2; ++a) {
+    require(std::isfinite(stage.sigma_ext[a]), "stage.sigma_ext must be finite");
+    require(std::isfinite(stage.strain_rate[a]), "stage.strain_rate must be finite");
+    require(stage.reference_length[a] > 0.0, "stage.reference_length must be > 0");
+  }
+  stage_ = stage;
+  control_cell();
+}
+
+void Engine::set_sigma_ext(int axis, double sigma) {
+  check_axis(axis);
+  Stage s = stage_;
+  s.sigma_ext[axis] = sigma;
+  set_stage(s);
+}
+
+void Engine::set_stress_control(int axis, double sigma) {
+  check_axis(axis);
+  Stage s = stage_;
+  s.control[axis] = LengthControl::stress;
+  s.sigma_ext[axis] = sigma;
+  set_stage(s);
+}
+
+void Engine::set_strain_rate_control(int axis, double strain_rate) {
+  check_axis(axis);
+  Stage s = stage_;
+  s.control[axis] = LengthControl::strain_rate;
+  s.strain_rate[axis] = strain_rate;
+  set_stage(s);
+  // The imposed rate holds from now on; the synchronous state carries it too.
+  cell_.length_rate[axis] = dynamic::imposed_length_rate(stage_, axis);
+  evaluate_state();
+}
+
+void Engine::set_fixed(int axis) {
+  check_axis(axis);
+  Stage s = stage_;
+  s.control[axis] = LengthControl::fixed;
+  set_stage(s);
+  cell_.length_rate[axis] = 0.0;
+  evaluate_state();
+}
+
+void Engine::set_measure(StressMeasure measure) {
+  Stage s = stage_;
+  s.measure = measure;
+  set_stage(s);
+}
+
+void Engine::set_reference_lengths(std::array<double, 2> lengths) {
+  Stage s = stage_;
+  s.reference_length = lengths;
+  set_stage(s);
+}
+
+void Engine::set_material(const Material& material) {
+  validate(material);
+  const bool new_time_scale = material.k_n != material_.k_n;
+  material_ = material;
+  for (std::size_t i = 0; i < disks_.size(); ++i) {
+    disks_.alpha_wall[i] = material_.damping_coefficient(disks_.mass[i], INFINITY);
+  }
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    pairs_.alpha[p] = material_.damping_coefficient(disks_.mass[pairs_.i[p]],
+                                                    disks_.mass[pairs_.j[p]]);
+  }
+  if (new_time_scale) {
+    const double m_min = *std::min_element(disks_.mass.begin(), disks_.mass.end());
+    time_scale_ = std::sqrt(m_min / material_.k_n);
+    dt_ = options_.dt_fraction * time_scale_;
+  }
+  evaluate_state();
+}
+
+void Engine::set_cell_mass(std::array<double, 2> mass) {
+  for (int a = 0; a < 2; ++a) {
+    require(std::isfinite(mass[a]) && mass[a] > 0.0, "engine: cell mass must be > 0");
+  }
+  cell_.mass = mass;
+  control_cell();
+}
+
+void Engine::set_external_forces(std::span<const double> fx, std::span<const double> fy) {
+  require(fx.size() == disks_.size() && fy.size() == disks_.size(),
+          "engine: external forces need N entries per component");
+  disks_.ext_fx.assign(fx.begin(), fx.end());
+  disks_.ext_fy.assign(fy.begin(), fy.end());
+  evaluate_state();
+}
+
+void Engine::clear_external_forces() {
+  disks_.ext_fx.clear();
+  disks_.ext_fy.clear();
+  evaluate_state();
+}
+
+Engine::Tensor Engine::stress() const {
+  const double area = cell_.length[0] * cell_.length[1];
+  return {{{sums_.sigma[0] / area, sums_.sigma[1] / area},
+           {sums_.sigma[2] / area, sums_.sigma[3] / area}}};
+}
+
+double Engine::controlled_stress(int axis) const {
+  check_axis(axis);
+  const double s = stress()[axis][axis];
+  if (stage_.measure == StressMeasure::cauchy) return s;
+  const int b = 1 - axis;
+  return s * cell_.length[b] / stage_.reference_length[b];
+}
+
+double Engine::wall_stress(int axis) const {
+  check_axis(axis);
+  if (cell_.periodic()) return stress()[axis][axis];
+  return sums_.wall_force[axis] / cell_.length[1 - axis];
+}
+
+double Engine::kinetic_energy() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < disks_.size(); ++i) {
+    e += disks_.mass[i] * (disks_.vx[i] * disks_.vx[i] + disks_.vy[i] * disks_.vy[i]) +
+         disks_.inertia[i] * disks_.omega[i] * disks_.omega[i];
+  }
+  return 0.5 * e;
+}
+
+double Engine::elastic_energy() const {
+  double e = 0.0;
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    if (!(pairs_.f_n[p] > 0.0)) continue;
+    e += pairs_.f_n[p] * pairs_.f_n[p] / material_.k_n +
+         material_.k_t * pairs_.delta_t[p] * pairs_.delta_t[p];
+  }
+  if (!cell_.periodic()) {
+    const Cell c = cell_.cell();
+    const Wall walls[4] = {wall_left, wall_right, wall_bottom, wall_top};
+    for (std::size_t i = 0; i < disks_.size(); ++i) {
+      for (int w = 0; w < 4; ++w) {
+        const ContactFrame f = disk_wall_frame(disks_.x[i], disks_.y[i], disks_.radius[i],
+                                               walls[w], c);
+        if (f.h > 0.0) {
+          e += material_.k_n * f.h * f.h +
+               material_.k_t * disks_.wall_delta_t[w][i] * disks_.wall_delta_t[w][i];
+        }
+      }
+    }
+  }
+  return 0.5 * e;
+}
+
+double Engine::cell_kinetic_energy() const {
+  return 0.5 * (cell_.mass[0] * cell_.length_rate[0] * cell_.length_rate[0] +
+                cell_.mass[1] * cell_.length_rate[1] * cell_.length_rate[1]);
+}
+
+std::size_t Engine::contact_count() const {
+  std::size_t count = 0;
+  for (std::size_t p = 0; p < pairs_.size(); ++p) count += pairs_.f_n[p] > 0.0;
+  if (!cell_.periodic()) {
+    const Cell c = cell_.cell();
+    const Wall walls[4] = {wall_left, wall_right, wall_bottom, wall_top};
+    for (std::size_t i = 0; i < disks_.size(); ++i) {
+      for (int w = 0; w < 4; ++w) {
+        count += disk_wall_frame(disks_.x[i], disks_.y[i], disks_.radius[i], walls[w], c).h > 0.0;
+      }
+    }
+  }
+  return count;
+}
+
+Configuration Engine::configuration() const {
+  Configuration out;
+  export_to(out);
+  return out;
+}
+
+void Engine::export_to(Configuration& out) const {
+  const std::size_t n = disks_.size();
+  out.disks.x = disks_.x;
+  out.disks.y = disks_.y;
+  out.disks.radius = disks_.radius;
+  out.disks.mass = disks_.mass;
+  out.disks.inertia = disks_.inertia;
+  out.disks.vx = disks_.vx;
+  out.disks.vy = disks_.vy;
+  out.disks.omega = disks_.omega;
+  out.disks.theta = disks_.theta;
+  out.cell = cell_.cell();
+  out.material = material_;
+  out.stage = stage_;
+  out.time = time_;
+  out.step = step_;
+  out.rng_state = rng_state_;
+
+  out.contacts.clear();
+  const auto status = [](double f_t, double f_n, double mu) {
+    if (!is_sliding(f_t, f_n, mu)) return ContactStatus::stick;
+    return f_t > 0.0 ? ContactStatus::slide_positive : ContactStatus::slide_negative;
+  };
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    if (!(pairs_.f_n[p] > 0.0)) continue;
+    const int i = pairs_.i[p], j = pairs_.j[p];
+    int k1 = 0, k2 = 0;
+    if (cell_.periodic()) {
+      k1 = minimum_image_shift(disks_.x[j] - disks_.x[i], cell_.length[0]);
+      k2 = minimum_image_shift(disks_.y[j] - disks_.y[i], cell_.length[1]);
+    }
+    out.contacts.add(i, j, k1, k2, pairs_.delta_t[p],
+                     status(pairs_.f_t[p], pairs_.f_n[p], material_.mu));
+  }
+  if (!cell_.periodic()) {
+    const Cell c = cell_.cell();
+    const Wall walls[4] = {wall_left, wall_right, wall_bottom, wall_top};
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int w = 0; w < 4; ++w) {
+        const ContactFrame f = disk_wall_frame(disks_.x[i], disks_.y[i], disks_.radius[i],
+                                               walls[w], c);
+        if (!(f.h > 0.0)) continue;
+        const double dt = disks_.wall_delta_t[w][i];
+        out.contacts.add(static_cast<int>(i), walls[w], 0, 0, dt,
+                         status(-material_.k_t * dt, material_.k_n * f.h, material_.mu_wall));
+      }
+    }
+  }
+}
+
+}  // namespace granstab

@@ -1,0 +1,123 @@
+#pragma once
+// The MD engine of SPEC §1 and §3 (issue #3): disks with the common contact law in a periodic
+// cell or between walls, the cell lengths / mobile walls under per-axis control. Protocols
+// (issue #4) are small drivers over one Engine: they set the control between steps and call
+// step() / run(); the Engine owns the one time loop.
+//
+// State in and out is a granstab::Configuration (positions, fluctuating velocities, spins, cell,
+// contacts with delta_t and images, stage). A configuration exported after any step and read
+// back into a new Engine continues to the bit (the cached forces are a function of that state).
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/configuration.hpp"
+#include "contact_forces.hpp"
+#include "neighbour_list.hpp"
+#include "state.hpp"
+
+namespace granstab {
+
+struct EngineOptions {
+  // Time step as a fraction of the shortest contact time scale sqrt(m_min / K_N); the default
+  // and its justification are in docs/dynamic.md (restitution and energy tests).
+  double dt_fraction = 0.05;
+  // Verlet-list skin in units of a (the largest diameter).
+  double skin = 0.1;
+  // Whether the viscous contact forces push the periodic cell / mobile walls (see
+  // docs/dynamic.md: they vanish at equilibrium; without them the cell's own oscillation is
+  // only damped through the disks' non-affine motion). Measured stresses never include them.
+  bool viscous_forces_drive_cell = true;
+};
+
+class Engine {
+ public:
+  using Tensor = std::array<std::array<double, 2>, 2>;  // sigma[a][b] = (1/A) sum f_a l_b
+
+  explicit Engine(const Configuration& config, const EngineOptions& options = {});
+
+  // One velocity-Verlet step: update neighbours -> contact forces -> cell/wall control ->
+  // integrate (see step() in engine.cpp).
+  void step();
+  void run(std::uint64_t steps);
+
+  // --- state out ---------------------------------------------------------------------------
+  Configuration configuration() const;
+  void export_to(Configuration& out) const;  // reuses out's storage
+
+  // --- clock -------------------------------------------------------------------------------
+  double time() const { return time_; }
+  std::uint64_t step_count() const { return step_; }
+  double dt() const { return dt_; }
+  void set_dt(double dt);
+  double time_scale() const { return time_scale_; }  // sqrt(m_min / K_N)
+
+  // --- control (may be changed between steps) ----------------------------------------------
+  const Stage& stage() const { return stage_; }
+  void set_stage(const Stage& stage);
+  void set_sigma_ext(int axis, double sigma);  // prescribed stress (SIC: sigma_2 = P(1+q))
+  void set_stress_control(int axis, double sigma);
+  void set_strain_rate_control(int axis, double strain_rate);  // d epsilon_a / dt
+  void set_fixed(int axis);
+  void set_measure(StressMeasure measure);
+  // New reference lengths L_a0 (start of a biaxial stage); default: the current lengths.
+  void set_reference_lengths(std::array<double, 2> lengths);
+  void set_reference_lengths_to_current() { set_reference_lengths(cell_.length); }
+  const Material& material() const { return material_; }
+  void set_material(const Material& material);  // e.g. mu_prep -> mu between stages
+  void set_cell_mass(std::array<double, 2> mass);
+  // Constant external force on every disk (random perturbation test); sizes must be N.
+  void set_external_forces(std::span<const double> fx, std::span<const double> fy);
+  void clear_external_forces();
+
+  // --- measurements at the current (synchronous) state --------------------------------------
+  std::size_t size() const { return disks_.size(); }
+  Tensor stress() const;  // elastic + frictional contact forces only (SPEC §2)
+  // The stress component a as the control sees it: Cauchy sigma_aa, or for the nominal
+  // measure the force on the side normal to a divided by that side's reference length.
+  double controlled_stress(int axis) const;
+  // Walls: force of the disks on the mobile wall normal to a (elastic + frictional) divided by
+  // the wall's current length. Periodic: equals stress()[a][a].
+  double wall_stress(int axis) const;
+  Cell cell() const { return cell_.cell(); }
+  std::array<double, 2> length() const { return cell_.length; }
+  std::array<double, 2> length_rate() const { return cell_.length_rate; }
+  // Net force (contacts, viscous included, plus external) and torque on each disk.
+  double force_x(std::size_t i) const { return disks_.fx[i] + disks_.fvx[i]; }
+  double force_y(std::size_t i) const { return disks_.fy[i] + disks_.fvy[i]; }
+  double torque(std::size_t i) const { return disks_.torque[i]; }
+  std::span<const double> x() const { return disks_.x; }
+  std::span<const double> y() const { return disks_.y; }
+  std::span<const double> vx() const { return disks_.vx; }
+  std::span<const double> vy() const { return disks_.vy; }
+  std::span<const double> omega() const { return disks_.omega; }
+  std::span<const double> radius() const { return disks_.radius; }
+  double kinetic_energy() const;  // translation (fluctuating velocities) + rotation
+  double elastic_energy() const;  // K_N h^2 / 2 + K_T delta_t^2 / 2 over all contacts
+  double cell_kinetic_energy() const;  // sum_a M_a (dL_a/dt)^2 / 2
+  std::size_t contact_count() const;   // disk-disk and disk-wall contacts with h > 0
+  std::uint64_t neighbour_rebuilds() const { return neighbours_.rebuild_count(); }
+
+ private:
+  void evaluate_state();  // forces and cell acceleration of the current state (no increment)
+  void control_cell();
+  void refresh_viscous_forces();
+  dynamic::ForceInputs force_inputs(double dt_tangential, bool end_of_step) const;
+  void import_contacts(const Contacts& contacts);
+
+  EngineOptions options_;
+  Material material_;
+  Stage stage_;
+  dynamic::DiskArrays disks_;
+  dynamic::PairArrays pairs_;
+  dynamic::CellState cell_;
+  dynamic::NeighbourList neighbours_;
+  dynamic::BlockSums sums_;  // elastic sums of the last force pass + viscous of the state
+  std::vector<dynamic::BlockSums> blocks_;
+  double dt_ = 0.0, time_scale_ = 0.0, time_ = 0.0;
+  std::uint64_t step_ = 0;
+  std::string rng_state_;
+};
+
+}  // namespace granstab

@@ -1,0 +1,49 @@
+#pragma once
+// Verlet list with a skin over the cell-list pair search (common/pair_search.hpp), rebuilt when
+// the disks' non-affine displacements or the cell's contraction since the last build could let
+// an unlisted pair touch. Tangential state is carried over to the new list for persisting pairs.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "common/pair_search.hpp"
+#include "common/material.hpp"
+#include "state.hpp"
+
+namespace granstab::dynamic {
+
+class NeighbourList {
+ public:
+  explicit NeighbourList(double skin = 0.1) : skin_(skin) {}
+  double skin() const { return skin_; }
+  std::uint64_t rebuild_count() const { return rebuilds_; }
+
+  // Rebuilds if needed; returns true if it did.
+  bool update(DiskArrays& disks, const CellState& cell, PairArrays& pairs,
+              const Material& material);
+  void rebuild(DiskArrays& disks, const CellState& cell, PairArrays& pairs,
+               const Material& material);
+  // Called by the integrator after the drift: the largest non-affine displacement since the
+  // last build (squared, in current lengths).
+  void set_max_displacement_squared(double d2) { max_displacement2_ = d2; }
+  // Reduced positions at the last build (the reference of the displacement check).
+  const std::vector<double>& reference_x() const { return ref_sx_; }
+  const std::vector<double>& reference_y() const { return ref_sy_; }
+  const std::array<double, 2>& reference_length() const { return ref_length_; }
+
+ private:
+  bool needs_rebuild(const CellState& cell) const;
+  double skin_;
+  double r_max_ = 0.0;
+  double max_displacement2_ = 0.0;
+  std::uint64_t rebuilds_ = 0;
+  bool built_ = false;
+  std::vector<double> ref_sx_, ref_sy_;
+  std::array<double, 2> ref_length_{1.0, 1.0};
+  PairSearch search_;
+  PairList found_;
+  std::vector<std::int32_t> old_i_, old_j_, old_row_start_;
+  std::vector<double> old_delta_t_, old_f_n_, old_fvx_, old_fvy_;
+};
+
+}  // namespace granstab::dynamic

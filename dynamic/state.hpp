@@ -1,0 +1,79 @@
+#pragma once
+// The engine's working arrays (structure of arrays). The pieces of the time step (neighbour
+// list, contact forces, cell control, integrator) are free functions over these.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "common/configuration.hpp"
+
+namespace granstab::dynamic {
+
+// Forces and torques cached per disk belong to the current synchronous state (time t): they are
+// a function of positions, velocities, delta_t and the cell only, so a state exported to a
+// Configuration and read back continues to the bit.
+struct DiskArrays {
+  std::vector<double> x, y, vx, vy, omega, theta;
+  std::vector<double> radius, mass, inertia, inv_mass, inv_inertia;
+  std::vector<double> alpha_wall;  // damping coefficient against an infinitely heavy wall
+  // Velocities predicted at the end of the step, used only by the viscous force (which depends
+  // on the velocity it is meant to change).
+  std::vector<double> vpx, vpy;
+  std::vector<double> fx, fy, torque;  // elastic + frictional contact forces + external forces
+  std::vector<double> fvx, fvy;        // viscous contact forces (normal, so no torque)
+  std::vector<double> ext_fx, ext_fy;  // external forces; empty when none is applied
+  // Contact state against each wall: tangential displacement, viscous force of the synchronous
+  // state, and whether the contact was closed (the next step needs to know if it opens).
+  std::array<std::vector<double>, 4> wall_delta_t, wall_f_v;
+  std::array<std::vector<std::uint8_t>, 4> wall_closed;
+  std::size_t size() const { return x.size(); }
+};
+
+// Pairs of the Verlet list, i < j, sorted by (i, j): CSR rows by i, plus the transposed
+// incidence (for each disk, the pairs where it is j, ascending i) so that every disk sums its
+// pair forces in ascending partner order whatever the list holds (see docs/dynamic.md).
+struct PairArrays {
+  std::vector<std::int32_t> i, j;
+  std::vector<std::int32_t> row_start;                  // N + 1
+  std::vector<std::int32_t> column_start, column_pair;  // N + 1, size()
+  std::vector<double> alpha, delta_t;
+  // Outputs of the force pass (zero for open pairs).
+  std::vector<double> fx, fy;    // elastic + frictional force of i on j
+  std::vector<double> fvx, fvy;  // viscous force of i on j
+  std::vector<double> torque_i, torque_j;
+  std::vector<double> nx, ny, lx, ly, f_n, f_t;
+  std::size_t size() const { return i.size(); }
+};
+
+struct CellState {
+  Boundary boundary = Boundary::periodic;
+  std::array<double, 2> length{1.0, 1.0};
+  std::array<double, 2> length_rate{0.0, 0.0};
+  std::array<double, 2> length_acceleration{0.0, 0.0};  // from the state at t
+  std::array<double, 2> rate_predicted{0.0, 0.0};       // end-of-step prediction (viscous)
+  std::array<double, 2> mass{1.0, 1.0};
+  bool periodic() const { return boundary == Boundary::periodic; }
+  Cell cell() const {
+    Cell c;
+    c.boundary = boundary;
+    c.length = length;
+    c.length_rate = length_rate;
+    c.mass = mass;
+    return c;
+  }
+};
+
+// Sums over the contacts of a fixed block of disks; blocks are added in index order, so every
+// reduction is independent of the thread count.
+struct BlockSums {
+  std::array<double, 4> sigma{};        // sum f_a l_b (a, b) -> 2 a + b, elastic + frictional
+  std::array<double, 2> sigma_viscous{};  // diagonal of the same for the viscous forces
+  std::array<double, 2> wall_force{};     // elastic + frictional force of the disks on the
+                                          // right (x) and top (y) walls
+  std::array<double, 2> wall_force_viscous{};
+  void clear() { *this = BlockSums{}; }
+};
+
+inline constexpr int block_size = 64;  // disks per reduction block (fixed, thread-independent)
+
+}  // namespace granstab::dynamic

@@ -1,0 +1,82 @@
+#pragma once
+// Small configurations for the engine tests, built in the tests themselves.
+#include <cstdint>
+#include <random>
+
+#include "common/configuration.hpp"
+#include "dynamic/cell_control.hpp"
+#include "dynamic/engine.hpp"
+
+namespace granstab::testing {
+
+inline Configuration empty_periodic(double l1, double l2, const Material& material) {
+  Configuration c;
+  c.cell.boundary = Boundary::periodic;
+  c.cell.length = {l1, l2};
+  c.material = material;
+  c.stage.control = {LengthControl::fixed, LengthControl::fixed};
+  c.stage.reference_length = {l1, l2};
+  return c;
+}
+
+// A random gas of n disks with diameters uniform in [1/2, 1] at solid fraction phi (no
+// overlaps, random sequential placement), seeded.
+inline Configuration random_gas(int n, double phi, const Material& material, std::uint64_t seed,
+                                Boundary boundary = Boundary::periodic) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> diameter(0.5, 1.0), unit(0.0, 1.0);
+  std::vector<double> r(n);
+  double area = 0.0;
+  for (int i = 0; i < n; ++i) {
+    r[i] = 0.5 * diameter(rng);
+    area += 3.141592653589793 * r[i] * r[i];
+  }
+  const double side = std::sqrt(area / phi);
+  Configuration c = empty_periodic(side, side, material);
+  c.cell.boundary = boundary;
+  for (int i = 0; i < n; ++i) {
+    for (int attempt = 0; attempt < 100000; ++attempt) {
+      double x = unit(rng) * side, y = unit(rng) * side;
+      if (boundary == Boundary::walls) {
+        x = r[i] + unit(rng) * (side - 2 * r[i]);
+        y = r[i] + unit(rng) * (side - 2 * r[i]);
+      }
+      bool free = true;
+      for (std::size_t j = 0; j < c.disks.size() && free; ++j) {
+        double dx = c.disks.x[j] - x, dy = c.disks.y[j] - y;
+        if (boundary == Boundary::periodic) {
+          dx -= side * std::nearbyint(dx / side);
+          dy -= side * std::nearbyint(dy / side);
+        }
+        free = dx * dx + dy * dy > (r[i] + c.disks.radius[j]) * (r[i] + c.disks.radius[j]);
+      }
+      if (free) {
+        c.disks.add(x, y, r[i]);
+        break;
+      }
+    }
+  }
+  const double m = dynamic::default_cell_mass(c.disks.mass);
+  c.cell.mass = {m, m};
+  return c;
+}
+
+// Compresses a gas isotropically under pressure p (stress control on both axes) with damping
+// and returns the state after `steps` steps.
+inline Configuration compress(Configuration c, double p, std::uint64_t steps, int chunk = 1000) {
+  c.stage.control = {LengthControl::stress, LengthControl::stress};
+  c.stage.sigma_ext = {p, p};
+  Engine engine(c);
+  for (std::uint64_t s = 0; s < steps; s += chunk) engine.run(chunk);
+  return engine.configuration();
+}
+
+inline double max_net_force(const Engine& e) {
+  double f = 0.0;
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    f = std::max(f, std::hypot(e.force_x(i), e.force_y(i)));
+  }
+  return f;
+}
+
+}  // namespace granstab::testing
