@@ -352,7 +352,11 @@ std::size_t read_count(Reader& in, std::string_view keyword) {
 void read_disks(Reader& in, Configuration& c) {
   const std::size_t n = read_count(in, "disks");
   Disks& d = c.disks;
-  d.resize(n);
+  // Grown line by line: a corrupt count must not allocate before the lines are there.
+  d.reserve(std::min<std::size_t>(n, 1u << 16));
+  const auto fields = d.fields();  // x y radius mass inertia vx vy omega theta: the file's columns
+  static constexpr std::array<std::string_view, 9> columns{"x",  "y",  "radius", "mass", "inertia",
+                                                           "vx", "vy", "omega",  "theta"};
   const Cell& cell = c.cell;
   for (std::size_t i = 0; i < n; ++i) {
     const std::string disk = "disk " + std::to_string(i);
@@ -361,15 +365,8 @@ void read_disks(Reader& in, Configuration& c) {
       in.fail("found 'contacts' after " + std::to_string(i) + " disk lines, but the file declares " +
               std::to_string(n) + " disks");
     in.values(9, disk, 0);
-    d.x[i] = in.real(0, disk + " x");
-    d.y[i] = in.real(1, disk + " y");
-    d.radius[i] = in.real(2, disk + " radius");
-    d.mass[i] = in.real(3, disk + " mass");
-    d.inertia[i] = in.real(4, disk + " inertia");
-    d.vx[i] = in.real(5, disk + " vx");
-    d.vy[i] = in.real(6, disk + " vy");
-    d.omega[i] = in.real(7, disk + " omega");
-    d.theta[i] = in.real(8, disk + " theta");
+    for (std::size_t f = 0; f < columns.size(); ++f)
+      fields[f]->push_back(in.real(f, cat(disk, " ", columns[f])));
     if (!(d.radius[i] > 0.0)) in.fail(disk + ": radius must be > 0");
     if (!(d.mass[i] > 0.0)) in.fail(disk + ": mass must be > 0");
     if (!(d.inertia[i] > 0.0)) in.fail(disk + ": inertia must be > 0");
@@ -392,7 +389,7 @@ void read_contacts(Reader& in, Configuration& c) {
   const bool periodic = c.cell.periodic();
   Contacts& k = c.contacts;
   k.clear();
-  k.reserve(std::min<std::size_t>(n, 1u << 20));
+  k.reserve(std::min<std::size_t>(n, 1u << 16));
   for (std::size_t m = 0; m < n; ++m) {
     const std::string contact = "contact " + std::to_string(m);
     in.require_more(contact + " (the file declares " + std::to_string(n) + " contacts)");
@@ -513,7 +510,15 @@ Configuration read_configuration(const std::filesystem::path& path) {
 }
 
 void write_configuration(const Configuration& config, const std::filesystem::path& path) {
-  write_file_atomically(path, format_configuration(config));
+  const std::string text = format_configuration(config);
+  // One set of rules: the writer refuses exactly what the reader would reject (a disk outside
+  // the cell, a contact index out of range, ...), so every file written can be read back.
+  try {
+    parse_configuration(text, path.string());
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(cat("write_configuration: invalid configuration, not written: ", e.what()));
+  }
+  write_file_atomically(path, text);
 }
 
 }  // namespace granstab

@@ -16,8 +16,10 @@ inline constexpr int configuration_format_version = 1;
 // any malformed or inconsistent input (and when the file cannot be opened).
 Configuration read_configuration(const std::filesystem::path& path);
 
-// Writes atomically (temporary file + rename). Throws std::invalid_argument naming the field if
-// a value could not be read back (non-finite number, rng_state not a std::mt19937_64 state).
+// Writes atomically (temporary file + rename). Throws std::invalid_argument, writing nothing, if
+// the file could not be read back: a non-finite number, an rng_state that is not a
+// std::mt19937_64 state, or anything read_configuration rejects (the message then names the
+// would-be line).
 void write_configuration(const Configuration& config, const std::filesystem::path& path);
 
 // The same, on text; source_name stands for the file name in error messages.

@@ -217,6 +217,19 @@ TEST(ConfigurationFile, RefusesToWriteWhatCannotBeReadBack) {
   c.disks.vx[3] = 0.0;
   c.rng_state = "not a state";
   EXPECT_THROW(write_configuration(c, file), std::invalid_argument);
+  // Whatever the reader would reject is refused with the reader's message.
+  Configuration outside = samples::triangular_lattice(1e3);
+  outside.disks.x[2] = outside.cell.length[0];  // periodic positions lie in [0, L1)
+  try {
+    write_configuration(outside, file);
+    ADD_FAILURE() << "wrote a disk outside the cell";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string() + ":"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("disk 2: x = "), std::string::npos) << e.what();
+  }
+  Configuration dangling = samples::square_stack(3, 1e3);
+  dangling.contacts.j[0] = 9;
+  EXPECT_THROW(write_configuration(dangling, file), std::invalid_argument);
   EXPECT_TRUE(fs::is_empty(dir.path()));
   EXPECT_THROW(write_configuration(samples::triangular_lattice(1e3), dir.path() / "no" / "dir.granstab"),
                std::runtime_error);
@@ -326,6 +339,9 @@ TEST(ConfigurationFile, RejectsWrongCounts) {
   expect_rejected(replaced(24, "contacts 2"), 27, "found 'end' after 1 contact lines, but the file declares 2");
   expect_rejected(replaced(24, "contacts 0"), 26, "expected 'end', found a data line");
   expect_rejected(replaced(20, "disks -1"), 20, "disks = -1: must be >= 0");
+  // A corrupt count fails on the lines, without first allocating for two billion disks.
+  expect_rejected(replaced(20, "disks 2000000000"), 24, "found 'contacts' after 2 disk lines");
+  expect_rejected(replaced(20, "disks 99999999999999999999"), 20, "integer out of range");
   expect_rejected(replaced(20, "disks 2.5"), 20, "disks: '2.5' is not an integer");
   expect_rejected(replaced(7, "cell.length 4"), 7, "cell.length: expected 2 values, found 1");
   expect_rejected(replaced(22, "0.3 1.5 0.5 1 0.125 0 0 0"), 22, "disk 0: expected 9 values, found 8");
