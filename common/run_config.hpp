@@ -3,6 +3,10 @@
 // overrides "key=value" on top. Every getter states the default and the allowed values, marks the
 // key as used, and throws std::invalid_argument "SOURCE: key = value: what is wrong"; finish()
 // then rejects every key that no getter asked for, so a misspelt key never passes silently.
+//
+// In a driver: cmd->add_option("--set", overrides, "override a setting, key=value");
+//   RunConfig rc = RunConfig::from_file(settings_file, overrides);
+//   const double gamma = rc.number("biaxial.gamma", 1e-4, 0.0, 1.0);  ... rc.finish();
 #include <cstdint>
 #include <filesystem>
 #include <memory>

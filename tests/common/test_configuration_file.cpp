@@ -194,6 +194,23 @@ TEST(ConfigurationFile, RoundTripIsBitExactForAwkwardValues) {
   }
 }
 
+TEST(ConfigurationFile, SpecialValuesRoundTripInEveryKindOfField) {
+  for (const double v : {-0.0, limits::denorm_min(), -limits::denorm_min(), 2.2250738585072009e-308,
+                         limits::max(), limits::lowest(), 0.1, 1.0 / 3.0, 5e-324 * 12345}) {
+    Configuration c = samples::triangular_lattice(1e3);
+    c.time = v;
+    c.cell.length_rate[1] = v;
+    c.stage.sigma_ext[0] = v;
+    c.disks.vx[0] = v;
+    c.disks.theta[15] = v;
+    c.contacts.delta_t[47] = v;
+    if (v >= 0.0) c.disks.x[1] = v < c.cell.length[0] ? v : 0.0;  // -0 and subnormal positions
+    const Configuration back = parse_configuration(format_configuration(c), "memory");
+    expect_identical(c, back);
+    EXPECT_EQ(std::signbit(back.time), std::signbit(v));
+  }
+}
+
 TEST(ConfigurationFile, WritesThroughTheFileSystemAtomically) {
   TempDir dir;
   const fs::path file = dir.path() / "sample.granstab";
