@@ -5,7 +5,8 @@ namespace granstab::dynamic {
 double default_cell_mass(const std::vector<double>& disk_mass) {
   double total = 0.0;
   for (double m : disk_mass) total += m;
-  return total > 0.0 ? total : 1.0;
+  constexpr double pi = 3.141592653589793;
+  return total > 0.0 ? total / (pi * pi) : 1.0;
 }
 
 ControlForces control_forces(const CellState& cell, const BlockSums& sums, bool include_viscous) {

@@ -8,11 +8,12 @@
 
 namespace granstab::dynamic {
 
-// The default inertia of each cell length / mobile wall: the total mass of the disks. With
-// M = sum m_i the length mode of the cell oscillates about as slowly as the slowest acoustic
-// mode of the sample (frequency ~ sqrt(E / M), E ~ K_N), so the control neither outruns the
-// sample's own response nor lags far behind it; the quasistatic results do not depend on it
-// (tests/dynamic/test_cell_control.cpp). See docs/dynamic.md.
+// The default inertia of each cell length / mobile wall: M = sum m_i / pi^2. Under a length
+// change dL the stress changes by E dL / L, so a square cell of mass M oscillates at
+// sqrt(E / M); the sample's fundamental standing wave has pi c / L = pi sqrt(E / sum m_i). This
+// M makes the two equal: the control follows the sample as fast as the sample itself can
+// respond, without outrunning it. Quasistatic results do not depend on M
+// (tests/dynamic/test_cell_control.cpp); see docs/dynamic.md.
 double default_cell_mass(const std::vector<double>& disk_mass);
 
 // The force driving axis a (the cell length or the mobile wall): the force the disks exert

@@ -80,3 +80,58 @@ inline double max_net_force(const Engine& e) {
 }
 
 }  // namespace granstab::testing
+
+namespace granstab::testing {
+
+// Largest net force over disks with at least two contacts (rattlers carry no force; SPEC §3.1).
+inline double max_net_force_non_rattler(const Engine& e) {
+  const Configuration c = e.configuration();
+  std::vector<int> count(e.size(), 0);
+  for (std::size_t k = 0; k < c.contacts.size(); ++k) {
+    ++count[c.contacts.i[k]];
+    if (c.contacts.j[k] >= 0) ++count[c.contacts.j[k]];
+  }
+  double f = 0.0;
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    if (count[i] >= 2) f = std::max(f, std::hypot(e.force_x(i), e.force_y(i)));
+  }
+  return f;
+}
+
+inline double max_stress_error(const Engine& e) {
+  double err = 0.0;
+  for (int a = 0; a < 2; ++a) {
+    if (e.stage().control[a] != LengthControl::stress) continue;
+    err = std::max(err, std::abs(e.controlled_stress(a) / e.stage().sigma_ext[a] - 1.0));
+  }
+  return err;
+}
+
+// Runs until forces (non-rattlers) < force_tol and controlled stresses within stress_tol
+// (relative), checking every `chunk` steps; returns false if max_steps is reached first.
+inline bool run_to_equilibrium(Engine& e, double force_tol, double stress_tol,
+                               std::uint64_t max_steps, std::uint64_t chunk = 2000) {
+  for (std::uint64_t s = 0; s < max_steps; s += chunk) {
+    e.run(chunk);
+    if (max_stress_error(e) < stress_tol && max_net_force_non_rattler(e) < force_tol) return true;
+  }
+  return false;
+}
+
+// A small dense packing at pressure 1: a random gas compressed by the engine itself under
+// isotropic stress control, zeta = 1, to equilibrium (forces < 1e-6, stresses within 1e-6).
+inline Configuration dense_packing(int n, const Material& material, std::uint64_t seed,
+                                   Boundary boundary = Boundary::periodic) {
+  Configuration c = random_gas(n, 0.2, material, seed, boundary);
+  c.stage.control = {LengthControl::stress, LengthControl::stress};
+  c.stage.sigma_ext = {1.0, 1.0};
+  Engine e(c);
+  if (!run_to_equilibrium(e, 1e-6, 1e-6, 2000000)) {
+    throw std::runtime_error("dense_packing: no equilibrium reached");
+  }
+  Configuration out = e.configuration();
+  out.stage.reference_length = out.cell.length;
+  return out;
+}
+
+}  // namespace granstab::testing
