@@ -121,6 +121,15 @@ StressTensor stress_tensor(const Configuration& config, const std::vector<Contac
   return s;
 }
 
+std::array<double, 4> wall_forces(const Configuration& config, const std::vector<ContactLoad>& loads) {
+  std::array<double, 4> force{};
+  const Contacts& k = config.contacts;
+  for (std::size_t c = 0; c < loads.size(); ++c)
+    // n points from the disk into the wall: the push on the wall is F_N; F_T runs along it.
+    if (loads[c].carrying && is_wall(k.j[c])) force[-k.j[c] - 1] += loads[c].f_n;
+  return force;
+}
+
 double controlled_stress(const Configuration& config, const StressTensor& sigma, int a) {
   if (config.stage.measure == StressMeasure::cauchy) return sigma[a][a];
   // Nominal: the force on the side normal to a (sigma_aa times the current side length L_b)

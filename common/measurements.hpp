@@ -42,6 +42,11 @@ std::vector<std::uint8_t> find_rattlers(const Configuration& config,
 using StressTensor = std::array<std::array<double, 2>, 2>;
 StressTensor stress_tensor(const Configuration& config, const std::vector<ContactLoad>& loads);
 
+// Walls: the total normal force the disks exert on each wall, indexed left, right, bottom, top
+// (-j - 1 for the Wall value j), positive when pushing. SPEC §2's second stress measure:
+// at equilibrium sigma_11 = F_right / L2 = F_left / L2 and sigma_22 = F_top / L1 = F_bottom / L1.
+std::array<double, 4> wall_forces(const Configuration& config, const std::vector<ContactLoad>& loads);
+
 // The stress component a that the stage controls: the Cauchy sigma_aa, or for the nominal measure
 // the force on the side normal to a divided by that side's reference length.
 double controlled_stress(const Configuration& config, const StressTensor& sigma, int a);

@@ -41,6 +41,14 @@ std::string text(double v) {
 
 std::string pass(bool ok) { return ok ? "pass" : "FAIL"; }
 
+// With walls, SPEC §2's second stress measure: the forces on the mobile walls over their lengths.
+std::string wall_stress_text(const Configuration& c) {
+  if (c.cell.periodic()) return {};
+  const auto f = wall_forces(c, contact_loads(c));
+  return "wall stress      " + text(f[1] / c.cell.length[1]) + " " + text(f[3] / c.cell.length[0]) +
+         "  (F_right / L2, F_top / L1)\n";
+}
+
 void print_text(const InfoOptions& o, const Configuration& c, const Measurements& m,
                 const EquilibriumReport& r, std::ostream& out) {
   const auto& L = c.cell.length;
@@ -58,6 +66,7 @@ void print_text(const InfoOptions& o, const Configuration& c, const Measurements
       << "X_s              " << text(m.x_s) << "\n"
       << "sigma            " << text(m.sigma[0][0]) << " " << text(m.sigma[0][1]) << " / "
       << text(m.sigma[1][0]) << " " << text(m.sigma[1][1]) << "  (s11 s12 / s21 s22)\n"
+      << wall_stress_text(c)
       << "q                " << text(m.q) << "\n"
       << "eps1 eps2 epsv   " << text(m.epsilon_1) << " " << text(m.epsilon_2) << " "
       << text(m.epsilon_v) << "\n"

@@ -52,6 +52,12 @@ TEST(Measurements, SquareStackStressEqualsWallForcesPerLength) {
   EXPECT_NEAR(m.sigma[1][1], wall_force / c.cell.length[0], 1e-12);
   EXPECT_NEAR(m.sigma[0][0], 1.0, 1e-12);
   EXPECT_NEAR(m.sigma[1][1], 1.0, 1e-12);
+  // The second measure of SPEC §2: wall forces over wall lengths agree with the contact sum.
+  const auto walls = wall_forces(c, contact_loads(c));
+  EXPECT_NEAR(walls[0], wall_force, 1e-12);  // left
+  EXPECT_NEAR(walls[1], wall_force, 1e-12);  // right
+  EXPECT_NEAR(walls[3] / c.cell.length[0], m.sigma[1][1], 1e-12);  // top
+  EXPECT_NEAR(walls[2] / c.cell.length[0], m.sigma[1][1], 1e-12);  // bottom
   // Corner disks touch two walls and two disks: every disk has 4 contacts.
   EXPECT_EQ(m.n_network_disk_disk, 12u);
   EXPECT_EQ(m.n_network_wall, 12u);
