@@ -17,7 +17,11 @@ Network network_from_configuration(const Configuration& config) {
   net.loading.nominal_length = config.stage.reference_length;
   DofOptions options;
   options.active.assign(config.disks.size(), 1);
-  for (int a = 0; a < 2; ++a) options.cell[a] = config.stage.control[a] != LengthControl::fixed;
+  for (int a = 0; a < 2; ++a) {
+    net.constraints.cell_free[a] = config.stage.control[a] != LengthControl::fixed;
+    options.cell[a] = net.constraints.cell_free[a];
+  }
+  options.pinned_translation = net.boundary == Boundary::periodic && !net.x.empty() ? 0 : -1;
   net.dofs = build_dof_map(options);
   return net;
 }

@@ -34,6 +34,15 @@ struct Loading {
   std::vector<double> dead;
 };
 
+// Which disks and directions may move (STATIC.md §S3.0): the solver re-derives the degrees of
+// freedom from these and the current contacts at every preparation.
+struct Constraints {
+  std::vector<char> disk_fixed;      // per disk, or empty: the disk never moves (tests)
+  std::vector<char> rotation_fixed;  // per disk, or empty: theta is not a degree of freedom
+  std::array<bool, 2> cell_free{true, true};  // e_a is a degree of freedom (stress control)
+  bool remove_rattlers = true;
+};
+
 struct Network {
   Boundary boundary = Boundary::periodic;
   std::array<double, 2> length{1.0, 1.0};  // L_a0, cell lengths at the start of the step
@@ -42,6 +51,7 @@ struct Network {
   Contacts contacts;  // delta_t: start-of-step tangential elastic displacement
   Material material;
   Loading loading;
+  Constraints constraints;
   DofMap dofs;
 
   std::size_t n_disks() const { return x.size(); }

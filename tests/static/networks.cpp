@@ -31,6 +31,21 @@ void add_overlapping_contacts(Network& net) {
   }
 }
 
+Configuration configuration_from_network(const Network& net) {
+  Configuration config;
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    config.disks.add(net.x[i], net.y[i], net.radius[i]);
+    config.disks.theta[i] = net.theta[i];
+  }
+  config.cell.boundary = net.boundary;
+  config.cell.length = net.length;
+  config.material = net.material;
+  config.contacts = net.contacts;
+  config.stage.reference_length = net.length;
+  config.stage.sigma_ext = net.loading.sigma;
+  return config;
+}
+
 DofOptions all_active(const Network& net, bool pin_translation) {
   DofOptions o;
   o.active.assign(net.n_disks(), 1);

@@ -21,6 +21,9 @@ Network walled_mixed_network();
 // The two-disk triangular lattice (spacing d = 2R - h) under isotropic pressure, in equilibrium.
 Network triangular_lattice(double radius, double k_n, double k_t, double mu, double pressure);
 
+// A configuration holding the network's state, stage stresses = its loads, references = its cell.
+Configuration configuration_from_network(const Network& net);
+
 // DofOptions with every disk active, translation pinned on disk 0 for periodic cells.
 DofOptions all_active(const Network& net, bool pin_translation);
 

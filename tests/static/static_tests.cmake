@@ -10,3 +10,9 @@ granstab_add_test(test_tangent_invariants
 granstab_add_test(test_lattice_and_work
   SOURCES test_lattice_and_work.cpp
   LIBS granstab_static_testing)
+granstab_add_test(test_stability_thresholds
+  SOURCES test_stability_thresholds.cpp
+  LIBS granstab_static_testing)
+granstab_add_test(test_load_stepping
+  SOURCES test_load_stepping.cpp
+  LIBS granstab_static_testing)

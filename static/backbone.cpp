@@ -1,0 +1,135 @@
+#include "static/backbone.hpp"
+
+#include <cmath>
+
+namespace granstab::statics {
+
+std::vector<char> force_carrying_disks(const Network& net, const std::vector<ContactState>& states) {
+  const std::size_t n = net.n_disks();
+  std::vector<char> carrying(n, 1);
+  const bool remove = net.constraints.remove_rattlers;
+  const auto fixed = [&](std::size_t i) {
+    return !net.constraints.disk_fixed.empty() && net.constraints.disk_fixed[i];
+  };
+  if (!remove) return carrying;
+  std::vector<int> count(n, 0);
+  const Contacts& k = net.contacts;
+  for (std::size_t c = 0; c < k.size(); ++c) {
+    if (states[c].f_n <= 0.0) continue;
+    ++count[k.i[c]];
+    if (!is_wall(k.j[c])) ++count[k.j[c]];
+  }
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!carrying[i] || fixed(i) || count[i] >= 2) continue;
+      carrying[i] = 0;
+      changed = true;
+      for (std::size_t c = 0; c < k.size(); ++c) {
+        if (states[c].f_n <= 0.0) continue;
+        const int a = k.i[c], b = k.j[c];
+        if (a == static_cast<int>(i) && !is_wall(b) && b != a) --count[b];
+        if (b == static_cast<int>(i) && a != b) --count[a];
+      }
+    }
+  }
+  return carrying;
+}
+
+void rebuild_degrees_of_freedom(Network& net) {
+  net.dofs = build_dof_map([&] {
+    DofOptions o;
+    o.active.assign(net.n_disks(), 1);
+    o.cell = net.constraints.cell_free;
+    return o;
+  }());
+  const std::vector<ContactState> states =
+      evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
+  DofOptions o;
+  o.active = force_carrying_disks(net, states);
+  bool any_fixed = false;
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    if (!net.constraints.disk_fixed.empty() && net.constraints.disk_fixed[i]) {
+      o.active[i] = 0;
+      any_fixed = true;
+    }
+  }
+  o.rotation_fixed = net.constraints.rotation_fixed;
+  o.cell = net.constraints.cell_free;
+  if (net.boundary == Boundary::periodic && !any_fixed) {
+    for (std::size_t i = 0; i < net.n_disks(); ++i)
+      if (o.active[i]) {
+        o.pinned_translation = static_cast<int>(i);
+        break;
+      }
+  }
+  net.dofs = build_dof_map(o);
+}
+
+std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>& states,
+                            const std::vector<ContactStatus>& statuses) {
+  const DofMap& m = net.dofs;
+  std::vector<char> keep(m.size, 1);
+  const std::size_t n = net.n_disks();
+  // Rotation graph over sticking frictional force-carrying contacts; ratio[i] = theta_i of the
+  // cluster's gear mode relative to its root.
+  std::vector<std::vector<std::pair<int, double>>> adjacent(n);  // partner, theta_j / theta_i
+  std::vector<char> blocked(n, 0), touched_by_slip(n, 0), frictional(n, 0);
+  for (std::size_t c = 0; c < states.size(); ++c) {
+    const ContactState& s = states[c];
+    if (statuses[c] == ContactStatus::open || !s.frictional || s.f_n <= 0.0) continue;
+    const int i = net.contacts.i[c], j = net.contacts.j[c];
+    frictional[i] = 1;
+    if (!s.wall) frictional[j] = 1;
+    if (statuses[c] != ContactStatus::stick) {
+      touched_by_slip[i] = 1;
+      if (!s.wall) touched_by_slip[j] = 1;
+      continue;
+    }
+    // A sticking wall contact or a self-image contact (2 a theta = 0) forbids the gear mode.
+    if (s.wall || i == j || m.theta[j] < 0) {
+      blocked[i] = 1;
+      if (!s.wall) blocked[j] = 1;
+      continue;
+    }
+    if (m.theta[i] < 0) {
+      blocked[j] = 1;
+      continue;
+    }
+    adjacent[i].push_back({j, -s.frame.a_i / s.frame.a_j});
+    adjacent[j].push_back({i, -s.frame.a_j / s.frame.a_i});
+  }
+  std::vector<double> ratio(n, 0.0);
+  std::vector<char> seen(n, 0);
+  std::vector<int> cluster, stack;
+  for (std::size_t root = 0; root < n; ++root) {
+    if (seen[root] || m.theta[root] < 0) continue;
+    cluster.clear();
+    bool free = true;
+    seen[root] = 1;
+    ratio[root] = 1.0;
+    stack.assign(1, static_cast<int>(root));
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      cluster.push_back(i);
+      free = free && !blocked[i] && !touched_by_slip[i];
+      for (const auto& [j, r] : adjacent[i]) {
+        const double expected = ratio[i] * r;
+        if (!seen[j]) {
+          seen[j] = 1;
+          ratio[j] = expected;
+          stack.push_back(j);
+        } else if (std::abs(ratio[j] - expected) > 1e-9 * std::abs(expected)) {
+          free = false;  // an odd loop frustrates the gears
+        }
+      }
+    }
+    // A lone disk whose contacts are all sliding keeps its rotation: see the header.
+    if (free && (cluster.size() > 1 || !frictional[root])) keep[m.theta[root]] = 0;
+  }
+  return keep;
+}
+
+}  // namespace granstab::statics

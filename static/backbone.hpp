@@ -1,0 +1,26 @@
+#pragma once
+// The parts of the network that must not make a stable network look unstable (STATIC.md §S3.0,
+// §S3.5): rattlers, the global translation of a periodic cell, and floppy rotations.
+#include <vector>
+
+#include "static/kinematics.hpp"
+
+namespace granstab::statics {
+
+// Disks that carry force: iteratively remove disks with fewer than 2 force-carrying contacts
+// (SPEC §2). Walls never leave; fixed disks (Constraints::disk_fixed) always stay.
+std::vector<char> force_carrying_disks(const Network& net, const std::vector<ContactState>& states);
+
+// Rebuilds net.dofs from the constraints and the current force-carrying disks: rattlers carry
+// no dofs; in a periodic cell without fixed disks, one backbone disk's u is removed.
+void rebuild_degrees_of_freedom(Network& net);
+
+// Gear modes (§S3.5): rotations theta only, with a_i theta_i + a_j theta_j = 0 on every sticking
+// frictional contact. They change no force (B_N v = 0, t.D v = 0 by construction), so one rotation
+// per free cluster is pinned. A cluster touched by a sliding contact is left alone: there the
+// torque rows are constraints, and a zero column means the statuses admit no solution.
+// Returns, per dof of q, 1 when the dof is kept.
+std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>& states,
+                            const std::vector<ContactStatus>& statuses);
+
+}  // namespace granstab::statics

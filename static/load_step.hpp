@@ -1,0 +1,89 @@
+#pragma once
+// One load step of STATIC.md §S3: preparation (§S3.0), predictor with the complementarity loop
+// over contact statuses (§S3.1), Newton corrector on the exact equilibrium (§S3.2).
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "static/tangent.hpp"
+
+namespace granstab::statics {
+
+struct SolverOptions {
+  double tolerance = 1e-10;             // relative residual of the corrector and the polish
+  // Below this relative residual a Newton iteration that can no longer decrease |R| is taken as
+  // converged: round-off of K_N h at large kappa (reported in docs/static.md).
+  double stagnation_tolerance = 1e-8;
+  int max_newton_iterations = 40;
+  int max_status_iterations = 200;
+  int max_closing_rounds = 5;
+};
+
+// Force, torque and cell-row scales of the relative residual (mean contact force, mean radius,
+// prescribed stress times area).
+struct ResidualScale {
+  double force = 1.0, torque = 1.0, cell = 1.0;
+};
+ResidualScale residual_scale(const Network& net, const std::vector<ContactState>& states);
+double relative_residual(const Network& net, const Eigen::VectorXd& r, const ResidualScale& scale);
+
+struct Timings {
+  double assembly = 0.0, factorisation = 0.0, complementarity = 0.0, corrector = 0.0;
+};
+
+struct NewtonResult {
+  bool converged = false;
+  Eigen::VectorXd dq;
+  std::vector<ContactState> states;
+  std::vector<double> residual_history;  // relative residual before each iteration
+};
+
+// Newton on R(dq) = 0 with backtracking on |R|; with forced statuses the tangential law is frozen
+// (the §S3.0 polish), otherwise it is the exact Coulomb return (the §S3.2 corrector).
+NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
+                                const std::vector<ContactStatus>* forced,
+                                const ResidualScale& scale, const SolverOptions& options,
+                                Timings* timings = nullptr);
+
+// §S3.0 step 5: stick, or sliding in the direction of F_T when |F_T| >= (1 - 1e-9) mu F_N.
+std::vector<ContactStatus> classify_contacts(const std::vector<ContactState>& states);
+
+struct PredictorResult {
+  bool ok = false;
+  std::string failure;  // "singular", "cycle", "iterations"
+  Eigen::VectorXd dq;
+  std::vector<ContactStatus> statuses;  // consistent statuses of the increment
+  int determinant_sign = 0;             // of K(statuses) on the kept dofs
+  int iterations = 0;
+  SparseMatrix tangent;                 // K(statuses) on all dofs
+  std::vector<char> kept;               // dofs kept (floppy rotations pinned)
+};
+
+// Piecewise-linear complementarity problem at the start of the step, by iterating statuses and
+// solving the full unsymmetric K with UMFPACK each time; cycles are detected by hashing the
+// status vectors. net carries the loads of the end of the step.
+// With rhs given, it replaces R(0) (the stability check solves for a pure load increment).
+PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings = nullptr,
+                        const Eigen::VectorXd* rhs = nullptr);
+
+struct StepResult {
+  bool ok = false;
+  std::string failure;
+  PredictorResult predictor;
+  NewtonResult corrector;
+  int new_contacts = 0;
+};
+
+// Advances net to the equilibrium under its (new) loads; on failure net is unchanged.
+StepResult load_step(Network& net, const SolverOptions& options, Timings* timings = nullptr);
+
+// Moves the start of the step to dq: positions, rotations, cell lengths, tangential states and
+// statuses; open contacts leave the list; imposed extensions are consumed.
+void advance(Network& net, const Eigen::VectorXd& dq, const std::vector<ContactState>& states);
+
+// §S3.0: rattlers and dofs, then the equilibrium polished at frozen statuses. Returns the polish's
+// Newton result (throws std::runtime_error if the configuration cannot be polished).
+NewtonResult prepare(Network& net, const SolverOptions& options);
+
+}  // namespace granstab::statics

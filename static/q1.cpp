@@ -1,0 +1,235 @@
+#include "static/q1.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "static/backbone.hpp"
+#include "static/hill.hpp"
+#include "static/linear_solvers.hpp"
+
+namespace granstab::statics {
+
+const char* criterion_name(Criterion c) {
+  switch (c) {
+    case Criterion::none: return "none";
+    case Criterion::existence: return "existence";
+    case Criterion::bifurcation: return "bifurcation";
+  }
+  return "none";
+}
+
+namespace {
+
+int count_sliding(const std::vector<ContactState>& states) {
+  int n = 0;
+  for (const ContactState& s : states)
+    if (s.frictional && s.f_n > 0.0 && s.status != ContactStatus::stick) ++n;
+  return n;
+}
+
+CurvePoint measure(const Network& net, double lambda, const std::array<double, 2>& reference) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+  const std::vector<ContactState> states = evaluate_contacts(net, zero);
+  CurvePoint p;
+  p.load = lambda;
+  const std::array<double, 2> sigma = contact_stress(net, zero, states);
+  p.q = sigma[0] != 0.0 ? sigma[1] / sigma[0] - 1.0 : 0.0;
+  p.eps1 = 1.0 - net.length[0] / reference[0];
+  p.eps2 = 1.0 - net.length[1] / reference[1];
+  p.epsv = 1.0 - net.area() / (reference[0] * reference[1]);
+  p.n_sliding = count_sliding(states);
+  return p;
+}
+
+// The stability check of a state: the consistent statuses of an infinitesimal further increment
+// (only contacts on the cone can change status) and the determinant sign of K on them. A finite
+// increment would let interior contacts reach the cone and report the next event as this state's.
+PredictorResult check_state(const Network& net, double lambda, double step, const LoadPath& path,
+                            const SolverOptions& options, Timings* timings) {
+  Network probe = net;
+  path(probe, lambda + 1e-6 * step);
+  // The pure load increment: the residual left by the corrector (~1e-10) must not steer it.
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+  const Eigen::VectorXd increment = residual(probe, zero, evaluate_contacts(probe, zero)) -
+                                    residual(net, zero, evaluate_contacts(net, zero));
+  return predict(probe, options, timings, &increment);
+}
+
+double hill_of(const Network& net) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+  const std::vector<ContactState> states = evaluate_contacts(net, zero);
+  const std::vector<ContactStatus> statuses = classify_contacts(states);
+  const SparseMatrix k = assemble_tangent(net, states, statuses);
+  const Reduction r = make_reduction(kept_dofs(net, states, statuses));
+  const HillResult h = hill_indicator(reduce(k, r));
+  return h.ok ? h.min_eigenvalue : std::numeric_limits<double>::quiet_NaN();
+}
+
+// Inverse iteration with the LU factor of K on the kept dofs: converges to the eigenvector of the
+// smallest |eigenvalue|, the null vector when K is (nearly) singular.
+Eigen::VectorXd softest_mode(const PredictorResult& p) {
+  const Reduction r = make_reduction(p.kept);
+  const SparseMatrix k = reduce(p.tangent, r);
+  const int n = static_cast<int>(k.rows());
+  if (n == 0) return Eigen::VectorXd::Zero(p.tangent.rows());
+  LuFactor lu;
+  Eigen::VectorXd v = Eigen::VectorXd::Ones(n).normalized();
+  if (lu.factorize(k)) {
+    for (int it = 0; it < 50; ++it) v = lu.solve(v).normalized();
+  } else {
+    const HillResult h = hill_indicator(k);
+    if (h.ok) v = h.mode;
+  }
+  return expand(v, r, static_cast<int>(p.tangent.rows()));
+}
+
+// The sliding contacts at q1 are those the failed attempt beyond the bracket made slide (its
+// consistent or last-tried statuses), which at the last stable state sit on or next to the cone.
+void record_instability(StabilityResult& result, const Network& net, const PredictorResult& p,
+                        const std::vector<ContactStatus>& beyond) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+  const std::vector<ContactState> states = evaluate_contacts(net, zero);
+  for (std::size_t c = 0; c < states.size(); ++c) {
+    const ContactState& s = states[c];
+    if (!s.frictional || s.f_n <= 0.0) continue;
+    const bool slides_beyond = c < beyond.size() && (beyond[c] == ContactStatus::slide_positive ||
+                                                      beyond[c] == ContactStatus::slide_negative);
+    if (!slides_beyond && !is_sliding(s.f_t, s.f_n, s.mu)) continue;
+    result.sliding_at_q1.push_back({net.contacts.i[c], net.contacts.j[c], net.contacts.k1[c],
+                                    net.contacts.k2[c], s.f_n, s.f_t});
+  }
+  if (p.tangent.rows() != net.dofs.size) return;
+  const Eigen::VectorXd v = softest_mode(p);
+  const DofMap& m = net.dofs;
+  result.mode.assign(3 * net.n_disks(), 0.0);
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    if (m.ux[i] >= 0) result.mode[3 * i] = v[m.ux[i]];
+    if (m.uy[i] >= 0) result.mode[3 * i + 1] = v[m.uy[i]];
+    if (m.theta[i] >= 0) result.mode[3 * i + 2] = v[m.theta[i]];
+  }
+  for (int a = 0; a < 2; ++a) result.mode_cell[a] = m.e[a] >= 0 ? v[m.e[a]] : 0.0;
+}
+
+}  // namespace
+
+StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath& path,
+                                     const std::array<double, 2>& reference_length,
+                                     const Q1Options& options) {
+  if (!(options.dq > 0.0) || !(options.dq_min > 0.0) || options.dq_min > options.dq)
+    throw std::invalid_argument("Q1Options: need 0 < dq_min <= dq");
+  StabilityResult result;
+  path(net, lambda0);
+  prepare(net, options.solver);
+  double lambda = lambda0;
+  double step = options.dq;
+  CurvePoint point = measure(net, lambda, reference_length);
+
+  // The start itself may already be unstable (no increment has a stable consistent solution).
+  PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
+  point.determinant_sign = check.determinant_sign;
+  if (options.hill) point.hill = hill_of(net);
+  result.curve.push_back(point);
+  Criterion failure = Criterion::none;
+  std::string detail;
+  if (!check.ok || check.determinant_sign <= 0) {
+    failure = check.ok ? Criterion::bifurcation : Criterion::existence;
+    detail = check.ok ? "det K <= 0 at the start" : "predictor at the start: " + check.failure;
+    result.q1 = lambda;
+    result.q1_bracket = {lambda, lambda};
+    result.criterion = failure;
+    result.detail = detail;
+    record_instability(result, net, check, check.statuses);
+    result.network_at_q1 = net;
+    return result;
+  }
+  PredictorResult last_check = check;
+
+  int successes_since_cut = 0;
+  std::vector<ContactStatus> beyond;  // statuses of the latest failed attempt
+  while (result.steps < options.max_steps && lambda < options.load_stop) {
+    Network trial = net;
+    path(trial, lambda + step);
+    const StepResult s = load_step(trial, options.solver, &result.timings);
+    bool accepted = false;
+    beyond = s.predictor.statuses;
+    if (s.ok) {
+      rebuild_degrees_of_freedom(trial);
+      check = check_state(trial, lambda + step, step, path, options.solver, &result.timings);
+      if (check.ok && check.determinant_sign > 0) {
+        accepted = true;
+      } else if (check.ok) {
+        failure = Criterion::bifurcation;
+        detail = "det K(active set) <= 0 beyond the bracket";
+      } else {
+        failure = Criterion::existence;
+        detail = "no consistent statuses beyond the bracket: " + check.failure;
+      }
+      if (!accepted) beyond.clear();  // the failed check ran on another contact list
+    } else {
+      failure = Criterion::existence;
+      detail = s.failure;
+    }
+    if (accepted) {
+      net = std::move(trial);
+      lambda += step;
+      ++result.steps;
+      CurvePoint p = measure(net, lambda, reference_length);
+      p.determinant_sign = check.determinant_sign;
+      p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
+      p.new_contacts = s.new_contacts;
+      if (options.hill) p.hill = hill_of(net);
+      result.curve.push_back(p);
+      last_check = check;
+      // Grow back after cuts, never beyond the user's step.
+      if (++successes_since_cut >= 2 && step < options.dq) {
+        step = std::min(options.dq, 2.0 * step);
+        successes_since_cut = 0;
+      }
+      continue;
+    }
+    // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
+    if (step * 0.5 < options.dq_min) {
+      result.q1 = lambda;
+      result.q1_bracket = {lambda, lambda + step};
+      result.criterion = failure;
+      result.detail = detail;
+      record_instability(result, net, last_check, beyond);
+      result.network_at_q1 = net;
+      return result;
+    }
+    step *= 0.5;
+    successes_since_cut = 0;
+  }
+  result.q1 = lambda;
+  result.q1_bracket = {lambda, std::numeric_limits<double>::infinity()};
+  result.criterion = Criterion::none;
+  result.detail = "stopped while stable";
+  result.network_at_q1 = net;
+  return result;
+}
+
+StabilityResult find_q1(const Configuration& config, const Q1Options& options) {
+  Network net = network_from_configuration(config);
+  const double sigma1 = config.stage.sigma_ext[0];
+  if (!(sigma1 > 0.0)) throw std::invalid_argument("stage.sigma_ext[0]: must be > 0 for q1");
+  net.constraints.cell_free = {true, options.control == Control::stress};
+  net.constraints.remove_rattlers = true;
+  const std::array<double, 2> reference = config.stage.reference_length;
+  if (options.control == Control::stress) {
+    const LoadPath path = [sigma1](Network& n, double q) {
+      n.loading.sigma = {sigma1, sigma1 * (1.0 + q)};
+    };
+    const double q0 = config.stage.sigma_ext[1] / sigma1 - 1.0;
+    return trace_to_instability(std::move(net), q0, path, reference, options);
+  }
+  // Strain control: e2 of the step takes L2 to L2_ref (1 - epsilon_2).
+  const LoadPath path = [reference](Network& n, double eps2) {
+    n.loading.e_imposed[1] = reference[1] * (1.0 - eps2) / n.length[1] - 1.0;
+  };
+  const double eps0 = 1.0 - config.cell.length[1] / reference[1];
+  net.loading.sigma = {sigma1, config.stage.sigma_ext[1]};
+  return trace_to_instability(std::move(net), eps0, path, reference, options);
+}
+
+}  // namespace granstab::statics

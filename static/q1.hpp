@@ -1,0 +1,84 @@
+#pragma once
+// Static stepping along a load path up to the loss of stability of the contact network
+// (SPEC §4, STATIC.md §S3.3-§S3.4): the equilibrium curve, q1 bracketed to the step floor, the
+// criterion that fired, the sliding contacts there and the unstable mode.
+#include <array>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/configuration.hpp"
+#include "static/load_step.hpp"
+
+namespace granstab::statics {
+
+enum class Control { stress, strain };
+
+// Which §S3.4 criterion ended the run.
+enum class Criterion {
+  none,         // the run stopped at load_stop or max_steps while stable
+  existence,    // (a) no consistent equilibrium state down to the step floor
+  bifurcation,  // (b) det K(active set) <= 0 on the consistent branch
+};
+const char* criterion_name(Criterion c);
+
+struct Q1Options {
+  double dq = 1e-3;      // step of the load parameter (q; epsilon_2 under strain control)
+  double dq_min = 1e-7;  // step floor: q1 is bracketed to [q, q + 2 dq_min) at worst
+  Control control = Control::stress;
+  int max_steps = 1000000;
+  double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
+  bool hill = true;  // log the Hill indicator at every accepted state
+  SolverOptions solver;
+};
+
+struct CurvePoint {
+  double load = 0.0;  // the load parameter (q prescribed, or epsilon_2 imposed)
+  double q = 0.0;     // measured (sigma2 - sigma1) / sigma1 from the contact forces
+  double eps1 = 0.0, eps2 = 0.0, epsv = 0.0;
+  int n_sliding = 0;
+  double hill = std::numeric_limits<double>::quiet_NaN();
+  int determinant_sign = 0;  // of K on the consistent statuses of the next increment
+  int newton_iterations = 0;
+  int new_contacts = 0;
+};
+
+struct SlidingContact {
+  int i, j, k1, k2;
+  double f_n, f_t;
+};
+
+struct StabilityResult {
+  std::vector<CurvePoint> curve;
+  double q1 = 0.0;                    // last stable value of the load parameter
+  std::array<double, 2> q1_bracket{}; // the loss of stability lies in [lo, hi]
+  Criterion criterion = Criterion::none;
+  std::string detail;                 // the failure behind the criterion
+  std::vector<SlidingContact> sliding_at_q1;
+  // Unstable mode at q1 (per disk ux, uy, theta; then e1, e2): the eigenvector of K(active set)
+  // with the smallest |eigenvalue|, by inverse iteration; near the bracket it is the null vector.
+  std::vector<double> mode;
+  std::array<double, 2> mode_cell{0.0, 0.0};
+  Network network_at_q1;
+  Timings timings;
+  int steps = 0;
+};
+
+// Moves the loads of net to the value lambda of the load parameter.
+using LoadPath = std::function<void(Network& net, double lambda)>;
+
+// Generic stepping from an equilibrium network (prepared here) along a load path.
+// reference_length is the stage's reference for the strains.
+StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath& path,
+                                     const std::array<double, 2>& reference_length,
+                                     const Q1Options& options);
+
+// Biaxial test of SPEC §3.3 by static means: sigma1 = stage sigma1 fixed, sigma2 = sigma1 (1 + q)
+// raised by dq (stress control), or epsilon_2 raised by dq with the e2 direction imposed (strain
+// control). Starts from the configuration's equilibrium under its stage stresses.
+StabilityResult find_q1(const Configuration& config, const Q1Options& options);
+
+}  // namespace granstab::statics

@@ -1,0 +1,117 @@
+// The load step of STATIC.md §S3 on constructed equilibria: quadratic convergence of the
+// corrector, stress- and strain-controlled stepping giving one curve, and T7 kappa scaling.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "networks.hpp"
+#include "static/load_step.hpp"
+#include "static/q1.hpp"
+
+namespace granstab::statics {
+namespace {
+
+TEST(Corrector, ConvergesQuadratically) {
+  // A large increment on a soft lattice (kappa = 100, dsigma2 = 0.5 P), corrected from dq = 0
+  // without the predictor, needs several iterations of the exact-law Newton.
+  Network net = testing::triangular_lattice(0.5, 100.0, 50.0, 0.5, 1.0);
+  prepare(net, SolverOptions{});
+  net.loading.sigma[1] = 1.5;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+  const NewtonResult s = newton_equilibrium(
+      net, zero, nullptr, residual_scale(net, evaluate_contacts(net, zero)), SolverOptions{});
+  ASSERT_TRUE(s.converged);
+  const std::vector<double>& r = s.residual_history;
+  for (double x : r) std::printf("%.3e ", x);
+  std::printf("\n");
+  ASSERT_GE(r.size(), 3u);
+  EXPECT_LT(r.back(), 1e-10);
+  int quadratic = 0;
+  for (std::size_t k = 0; k + 1 < r.size(); ++k) {
+    if (r[k] > 1e-2 || r[k + 1] < 1e-13) continue;  // outside the asymptotic range / round-off
+    EXPECT_LT(r[k + 1], 10.0 * r[k] * r[k]) << k;
+    ++quadratic;
+  }
+  EXPECT_GE(quadratic, 1);
+}
+
+}  // namespace
+}  // namespace granstab::statics
+namespace granstab::statics {
+namespace {
+
+// The two-disk triangular lattice with horizontal contacts, compressed along 2 (K_T = K_N / 2,
+// mu = 0.3). In the rigid limit the horizontal contacts lose their force at q = 6 and the four
+// inclined contacts, then statically determinate, reach the Coulomb cone together at
+// F_N = sqrt(3) P d / (1 - sqrt(3) mu), i.e. q = (3 + sqrt(3) mu) / (1 - sqrt(3) mu) - 1, where
+// sliding along them is a mechanism (a limit point: criterion (a)).
+double lattice_rigid_q1(double mu) {
+  const double s3 = std::sqrt(3.0);
+  return (3.0 + s3 * mu) / (1.0 - s3 * mu) - 1.0;
+}
+
+StabilityResult lattice_run(double kappa, Control control, double step, double stop) {
+  const Network net = testing::triangular_lattice(0.5, kappa, 0.5 * kappa, 0.3, 1.0);
+  Q1Options o;
+  o.dq = step;
+  o.dq_min = 1e-6;
+  o.hill = false;
+  o.control = control;
+  o.load_stop = stop;
+  return find_q1(testing::configuration_from_network(net), o);
+}
+
+// T7: kappa de and q1 converge as kappa grows, here to the analytic rigid-limit values.
+TEST(KappaScaling, LatticeStrainsAndQ1Converge) {
+  const double rigid = lattice_rigid_q1(0.3);
+  std::vector<double> q1_error, kappa_eps2;
+  for (double kappa : {1e3, 1e4, 1e5}) {
+    const StabilityResult r = lattice_run(kappa, Control::stress, 0.05, INFINITY);
+    EXPECT_EQ(r.criterion, Criterion::existence) << r.detail;
+    EXPECT_LT(r.q1_bracket[1] - r.q1_bracket[0], 2.1e-6);
+    EXPECT_EQ(r.sliding_at_q1.size(), 4u);  // the inclined contacts
+    q1_error.push_back(std::abs(r.q1 - rigid));
+    ASSERT_GT(r.curve.size(), 40u);
+    EXPECT_NEAR(r.curve[40].q, 2.0, 1e-9);
+    kappa_eps2.push_back(kappa * r.curve[40].eps2);
+    std::printf("kappa %.0e: q1 = %.8f (rigid limit %.8f), kappa eps2(q = 2) = %.6f\n", kappa,
+                r.q1, rigid, kappa_eps2.back());
+  }
+  // Errors of order 1/kappa: each decade of kappa gains about a decade.
+  EXPECT_LT(q1_error[1], 0.2 * q1_error[0]);
+  EXPECT_LT(q1_error[2], 0.2 * q1_error[1]);
+  EXPECT_LT(q1_error[2], 2e-3);
+  EXPECT_LT(std::abs(kappa_eps2[2] - kappa_eps2[1]), 0.2 * std::abs(kappa_eps2[1] - kappa_eps2[0]));
+}
+
+double interpolate_q(const std::vector<CurvePoint>& curve, double eps2) {
+  for (std::size_t k = 1; k < curve.size(); ++k) {
+    if (curve[k].eps2 < eps2) continue;
+    const double w = (eps2 - curve[k - 1].eps2) / (curve[k].eps2 - curve[k - 1].eps2);
+    return (1.0 - w) * curve[k - 1].q + w * curve[k].q;
+  }
+  return NAN;
+}
+
+// §S3.4 cross-check: strain-controlled static stepping gives the stress-controlled curve below q1,
+// across the opening of the horizontal contacts at q ~ 6.
+TEST(Control, StrainControlGivesTheStressControlledCurve) {
+  const double kappa = 1e4;
+  const StabilityResult stress = lattice_run(kappa, Control::stress, 0.02, INFINITY);
+  const double eps2_max = stress.curve.back().eps2;
+  const StabilityResult strain = lattice_run(kappa, Control::strain, eps2_max / 200.0, 0.99 * eps2_max);
+  ASSERT_GT(strain.curve.size(), 150u);
+  double worst = 0.0;
+  for (const CurvePoint& p : strain.curve) {
+    if (p.eps2 <= stress.curve.front().eps2) continue;
+    worst = std::max(worst, std::abs(p.q - interpolate_q(stress.curve, p.eps2)));
+  }
+  std::printf("max |q_strain - q_stress(eps2)| = %.3g over %zu points up to q = %.4f\n", worst,
+              strain.curve.size(), strain.curve.back().q);
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_GT(strain.curve.back().q, 6.0);  // beyond the opening of the horizontal contacts
+}
+
+}  // namespace
+}  // namespace granstab::statics
