@@ -31,6 +31,21 @@ void wall_velocity(Wall w, const std::array<double, 2>& rate, double& vx, double
   vy = w == wall_top ? rate[1] : 0.0;
 }
 
+// The contact law for one contact, with the tangential force read back from the stored state,
+// F_T = -K_T delta_t (equal to the law's F_T up to one rounding on slip), so that the forces
+// of a synchronous state are a function of that state alone and an exported state resumes to
+// the bit. With dt = 0 (evaluating a given state) delta_t is kept as it is unless it lies
+// outside the Coulomb cone by more than round-off (e.g. after mu was lowered).
+inline ContactForce apply_law(const Material& m, double mu, double alpha, double h,
+                              double h_rate, double delta_t, double dt, double rate) {
+  ContactForce c = contact_force(m.k_n, m.k_t, mu, alpha, h, h_rate, delta_t, dt * rate);
+  if (dt == 0.0 && std::abs(m.k_t * delta_t) <= (1.0 + sliding_tolerance) * mu * c.f_n) {
+    c.delta_t = delta_t;
+  }
+  c.f_t = -m.k_t * c.delta_t;
+  return c;
+}
+
 // The viscous force jumps when a contact closes or opens (SPEC §1.1: applied in full while
 // h > 0). Velocity Verlet's trapezoidal impulse would place each jump at a step boundary + dt/2
 // whatever its true time, an O(dt) error in the restitution coefficient. The time of the jump
@@ -88,14 +103,14 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
       continue;
     }
     const ContactFrame f = disk_disk_frame(dx, dy, d.radius[i], d.radius[j]);
-    const double d_delta_t = in.dt * tangential_rate(f, dvx, dvy, d.omega[i], d.omega[j]);
+    const double rate = tangential_rate(f, dvx, dvy, d.omega[i], d.omega[j]);
     const double affine_vx = in.periodic ? in.rate_viscous[0] * dx : 0.0;
     const double affine_vy = in.periodic ? in.rate_viscous[1] * dy : 0.0;
     const double h_rate =
         deflection_rate(f, in.vx_viscous[j] - in.vx_viscous[i] + affine_vx,
                         in.vy_viscous[j] - in.vy_viscous[i] + affine_vy);
-    const ContactForce c = contact_force(mat.k_n, mat.k_t, mat.mu, pairs.alpha[p], f.h, h_rate,
-                                         pairs.delta_t[p], d_delta_t);
+    const ContactForce c =
+        apply_law(mat, mat.mu, pairs.alpha[p], f.h, h_rate, pairs.delta_t[p], in.dt, rate);
     pairs.delta_t[p] = c.delta_t;
     pairs.f_n[p] = c.f_n;
     pairs.f_t[p] = c.f_t;
@@ -182,9 +197,9 @@ void wall_forces(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, 
         f_v = d.alpha_wall[i] * h_rate;  // as contact_force() computes it
         d.wall_f_v[w][i] = f_v;
       } else {
-        const double d_delta_t = in.dt * tangential_rate(f, dvx, dvy, d.omega[i], 0.0);
-        const ContactForce c = contact_force(mat.k_n, mat.k_t, mat.mu_wall, d.alpha_wall[i], f.h,
-                                             h_rate, d.wall_delta_t[w][i], d_delta_t);
+        const double rate = tangential_rate(f, dvx, dvy, d.omega[i], 0.0);
+        const ContactForce c = apply_law(mat, mat.mu_wall, d.alpha_wall[i], f.h, h_rate,
+                                         d.wall_delta_t[w][i], in.dt, rate);
         d.wall_delta_t[w][i] = c.delta_t;
         d.wall_f_v[w][i] = c.f_v;
         const double share =

@@ -1,0 +1,34 @@
+#pragma once
+// Isotropic compaction under the pressure P (SPEC §3.2), from a gas to equilibrium (§3.1).
+#include <cstdint>
+
+#include "equilibration.hpp"
+
+namespace granstab::protocols {
+
+struct CompactionOptions {
+  double pressure = 1.0;
+  // 0: stress control at P from the gas on (the literal recipe of SPEC §3.2). > 0: first an
+  // isotropic compression at this prescribed strain rate d epsilon / dt (units sqrt(P/m), both
+  // axes, strains relative to the gas) until the mean stress reaches P, then stress control at
+  // P. This avoids the free fall of the cell onto the jammed packing (docs/protocols.md).
+  double strain_rate = 0.0;
+  std::uint64_t max_strain_rate_steps = 100'000'000;
+  EquilibrationOptions equilibration;
+};
+
+struct CompactionResult {
+  bool reached = false;
+  std::uint64_t strain_rate_steps = 0;  // phase 1 (0 when strain_rate = 0)
+  std::uint64_t stress_steps = 0;       // phase 2, to equilibrium
+  EquilibriumReport report;
+};
+
+// Drives `engine` (whatever its stage) through the compaction; `state` receives the final
+// configuration, whose stage is isotropic stress control at P with the final lengths as the
+// reference lengths L_a0 (the start of any later biaxial stage).
+CompactionResult compact_isotropically(Engine& engine, const CompactionOptions& options,
+                                       Configuration& state,
+                                       const EquilibrationObserver& observer = {});
+
+}  // namespace granstab::protocols
