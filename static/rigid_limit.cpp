@@ -1,0 +1,627 @@
+// Rigid-limit bound (SPEC §4.5, STATIC.md §S3.6). Steps: frames of the frozen network ->
+// remove what carries no force -> assemble the normalised LP -> Ipopt -> forces and mechanism.
+// The formulation is derived in docs/static.md ("Rigid-limit bound").
+#include "static/rigid_limit.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "IpIpoptApplication.hpp"
+#include "IpSolveStatistics.hpp"
+#include "IpTNLP.hpp"
+#include "common/contact_law.hpp"
+
+namespace granstab::statics {
+
+std::mutex& ipopt_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The network: frames of all contacts, and which contacts and disks enter the LP.
+
+struct FrozenNetwork {
+  std::vector<ContactFrame> frame;  // per contact of config.contacts
+  std::vector<double> mu;           // friction of each contact (mu or mu_wall)
+  std::vector<char> active;         // contact enters the LP
+  std::vector<char> disk_active;    // disk has balance rows
+  std::vector<char> pinned;         // disk whose force rows are dropped (translation of a
+                                    // wall-free periodic component: those rows are dependent)
+  std::vector<char> torque_dropped;  // disk whose torque row is dependent (a gear mode)
+};
+
+void check_configuration(const Configuration& config, const RigidLimitOptions& options) {
+  validate(config.cell);
+  if (!(options.sigma1 > 0.0) || !std::isfinite(options.sigma1))
+    throw std::invalid_argument("rigid_limit: options.sigma1 must be positive and finite");
+  const Contacts& c = config.contacts;
+  const auto n = static_cast<std::int64_t>(config.disks.size());
+  if (c.j.size() != c.size() || c.k1.size() != c.size() || c.k2.size() != c.size())
+    throw std::invalid_argument("rigid_limit: contacts.i, j, k1, k2 differ in length");
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const std::string where = "rigid_limit: contacts[" + std::to_string(k) + "]";
+    if (c.i[k] < 0 || c.i[k] >= n) throw std::invalid_argument(where + ".i out of range");
+    if (c.j[k] >= n || c.j[k] < wall_top) throw std::invalid_argument(where + ".j out of range");
+    if (is_wall(c.j[k])) {
+      if (config.cell.periodic())
+        throw std::invalid_argument(where + " is a wall contact in a periodic cell");
+    } else if (!config.cell.periodic() && (c.k1[k] != 0 || c.k2[k] != 0)) {
+      throw std::invalid_argument(where + " has an image shift in a walled cell");
+    }
+    if (c.i[k] == c.j[k] && c.k1[k] == 0 && c.k2[k] == 0)
+      throw std::invalid_argument(where + " joins a disk to itself");
+  }
+}
+
+ContactFrame frame_of(const Configuration& config, std::size_t k) {
+  const Contacts& c = config.contacts;
+  const Disks& d = config.disks;
+  const int i = c.i[k], j = c.j[k];
+  if (is_wall(j)) return disk_wall_frame(d.x[i], d.y[i], d.radius[i], Wall(j), config.cell);
+  const double lx = d.x[j] + c.k1[k] * config.cell.length[0] - d.x[i];
+  const double ly = d.y[j] + c.k2[k] * config.cell.length[1] - d.y[i];
+  return disk_disk_frame(lx, ly, d.radius[i], d.radius[j]);
+}
+
+// A disk with fewer than two contacts must carry zero force (one contact cannot balance), so
+// removing it and its contact is exact; iterate, as in the rattler definition of SPEC §2.
+void remove_weak_disks(const Configuration& config, FrozenNetwork& net) {
+  const Contacts& c = config.contacts;
+  const std::size_t n = config.disks.size();
+  std::vector<std::vector<int>> touching(n);
+  std::vector<int> degree(n, 0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!net.active[k]) continue;
+    touching[c.i[k]].push_back(static_cast<int>(k));
+    ++degree[c.i[k]];
+    if (!is_wall(c.j[k])) {
+      touching[c.j[k]].push_back(static_cast<int>(k));
+      ++degree[c.j[k]];
+    }
+  }
+  std::deque<int> weak;
+  for (std::size_t i = 0; i < n; ++i)
+    if (degree[i] < 2) weak.push_back(static_cast<int>(i));
+  while (!weak.empty()) {
+    const int i = weak.front();
+    weak.pop_front();
+    for (const int k : touching[i]) {
+      if (!net.active[k]) continue;
+      net.active[k] = 0;
+      for (const int end : {c.i[k], c.j[k]}) {
+        if (is_wall(end)) continue;
+        if (--degree[end] == 1) weak.push_back(end);  // reaching 0 means it was queued at 1
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) net.disk_active[i] = degree[i] >= 2;
+}
+
+// Components of the disk-disk graph. A component that neither touches a wall nor wraps around
+// the periodic cell is a finite floating cluster: its self-stress contributes
+// sum l (x) f = sum_i r_i (x) F_i = 0 to the stress, so dropping it is exact (and removes its
+// three dependent balance rows). A component without walls that wraps keeps its rows except the
+// force rows of one disk, which are the negative sum of the others.
+void classify_components(const Configuration& config, FrozenNetwork& net) {
+  const Contacts& c = config.contacts;
+  const std::size_t n = config.disks.size();
+  struct Link { int other, contact, sx, sy; };  // image shift of `other` seen from this disk
+  std::vector<std::vector<Link>> links(n);
+  std::vector<char> on_wall(n, 0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!net.active[k]) continue;
+    const int i = c.i[k], j = c.j[k];
+    if (is_wall(j)) {
+      on_wall[i] = 1;
+      continue;
+    }
+    links[i].push_back({j, static_cast<int>(k), c.k1[k], c.k2[k]});
+    links[j].push_back({i, static_cast<int>(k), -c.k1[k], -c.k2[k]});
+  }
+  std::vector<int> component(n, -1);
+  std::vector<std::array<int, 2>> offset(n, {0, 0});
+  std::vector<int> members;
+  for (std::size_t root = 0; root < n; ++root) {
+    if (!net.disk_active[root] || component[root] >= 0) continue;
+    members.assign(1, static_cast<int>(root));
+    component[root] = static_cast<int>(root);
+    bool wraps = false, walled = false;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      const int i = members[m];
+      walled = walled || on_wall[i];
+      for (const Link& link : links[i]) {
+        const std::array<int, 2> o{offset[i][0] + link.sx, offset[i][1] + link.sy};
+        if (component[link.other] < 0) {
+          component[link.other] = static_cast<int>(root);
+          offset[link.other] = o;
+          members.push_back(link.other);
+        } else if (offset[link.other] != o) {
+          wraps = true;  // a loop of contacts with a nonzero net image shift
+        }
+      }
+    }
+    if (walled) continue;
+    if (wraps) {
+      net.pinned[root] = 1;
+      continue;
+    }
+    for (const int i : members) {
+      net.disk_active[i] = 0;
+      for (const Link& link : links[i]) net.active[link.contact] = 0;
+    }
+  }
+}
+
+// Torque rows involve only the tangential forces of frictional contacts. A "gear" mode,
+// a_i theta_i + a_j theta_j = 0 on every frictional contact of a component (theta alternating
+// around even loops, e.g. two disks touching twice across a periodic cell, or any tree of
+// frictional contacts), makes sum_i theta_i (torque row i) vanish identically, so the torque
+// row of one disk is dependent: drop it (Ipopt fails on, or returns no valid dual for, dependent
+// rows). A frictional wall contact (a_wall = 0) or a frictional self-image contact forces
+// theta = 0 and excludes the mode.
+void drop_gear_torque_rows(const Configuration& config, FrozenNetwork& net) {
+  const Contacts& c = config.contacts;
+  const std::size_t n = config.disks.size();
+  struct Link { int other, contact; bool from_i; };
+  std::vector<std::vector<Link>> links(n);
+  std::vector<char> blocked(n, 0), frictional(n, 0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!net.active[k] || !(net.mu[k] > 0.0)) continue;
+    const int i = c.i[k], j = c.j[k];
+    frictional[i] = 1;
+    if (is_wall(j) || i == j) {
+      blocked[i] = 1;
+      continue;
+    }
+    frictional[j] = 1;
+    links[i].push_back({j, static_cast<int>(k), true});
+    links[j].push_back({i, static_cast<int>(k), false});
+  }
+  std::vector<double> theta(n, 0.0);
+  std::vector<char> seen(n, 0);
+  std::vector<int> members;
+  for (std::size_t root = 0; root < n; ++root) {
+    if (!frictional[root] || seen[root]) continue;
+    members.assign(1, static_cast<int>(root));
+    seen[root] = 1;
+    theta[root] = 1.0;
+    bool gear = true;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      const int x = members[m];
+      gear = gear && !blocked[x];
+      for (const Link& link : links[x]) {
+        const ContactFrame& f = net.frame[link.contact];
+        const double wanted = link.from_i ? -f.a_i * theta[x] / f.a_j : -f.a_j * theta[x] / f.a_i;
+        if (!seen[link.other]) {
+          seen[link.other] = 1;
+          theta[link.other] = wanted;
+          members.push_back(link.other);
+        } else if (std::abs(wanted - theta[link.other]) > 1e-10 * std::abs(wanted)) {
+          gear = false;
+        }
+      }
+    }
+    if (gear) net.torque_dropped[root] = 1;
+  }
+}
+
+FrozenNetwork build_network(const Configuration& config) {
+  const Contacts& c = config.contacts;
+  FrozenNetwork net;
+  net.frame.resize(c.size());
+  net.mu.resize(c.size());
+  net.active.assign(c.size(), 0);
+  net.disk_active.assign(config.disks.size(), 0);
+  net.pinned.assign(config.disks.size(), 0);
+  net.torque_dropped.assign(config.disks.size(), 0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    net.frame[k] = frame_of(config, k);
+    net.mu[k] = is_wall(c.j[k]) ? config.material.mu_wall : config.material.mu;
+    net.active[k] = net.frame[k].h > 0.0;  // the network: contacts with h > 0 (brief, §1.1)
+  }
+  remove_weak_disks(config, net);
+  classify_components(config, net);
+  drop_gear_torque_rows(config, net);
+  return net;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The normalised LP (docs/static.md): columns x >= 0 are the edges of the friction cones,
+// f = x (n + s mu t) with s = +-1 (one edge, s = 0, for frictionless contacts), plus the free
+// column s1. Rows: force and torque balance of each active disk, and
+//   S1: sum c1 x - A s1 = 0,   S2: sum c2 x + A s1 = 2 A   (sigma_1 + sigma_2 = 2, units of P).
+// Lengths are in units of a (largest diameter), forces in units of a P.
+
+enum class RowKind : std::uint8_t { force_x, force_y, torque, stress };
+
+struct LinearProgram {
+  int n_edges = 0;
+  std::vector<int> edge_contact;
+  std::vector<signed char> edge_sign;
+  // Constraint matrix, COO sorted by (row, column), merged, without zeros.
+  std::vector<int> row, col;
+  std::vector<double> val;
+  std::vector<double> rhs;
+  std::vector<RowKind> row_kind;
+  std::vector<int> row_index;  // disk of a balance row; direction (0, 1) of a stress row
+  double length_unit = 1.0;    // a: the largest diameter
+  double area = 1.0;           // A / a^2
+  int n_columns() const { return n_edges + 1; }
+  int s1_column() const { return n_edges; }
+  int n_rows() const { return static_cast<int>(rhs.size()); }
+};
+
+LinearProgram assemble(const Configuration& config, const FrozenNetwork& net) {
+  const Contacts& c = config.contacts;
+  const Cell& cell = config.cell;
+  const std::size_t n = config.disks.size();
+  LinearProgram lp;
+  double max_radius = 0.0;
+  for (const double r : config.disks.radius) max_radius = std::max(max_radius, r);
+  lp.length_unit = max_radius > 0.0 ? 2.0 * max_radius : 1.0;
+  const double a = lp.length_unit;
+  lp.area = cell.area() / (a * a);
+
+  // Provisional rows: 3 per disk (x, y, torque), then S1, S2.
+  const int s_row = static_cast<int>(3 * n);
+  std::vector<std::tuple<int, int, double>> entries;
+  auto add = [&](int r, int col, double v) { entries.emplace_back(r, col, v); };
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!net.active[k]) continue;
+    const ContactFrame& f = net.frame[k];
+    const int i = c.i[k], j = c.j[k];
+    const double mu = net.mu[k];
+    const int n_cone_edges = mu > 0.0 ? 2 : 1;
+    for (int edge = 0; edge < n_cone_edges; ++edge) {
+      const int s = mu > 0.0 ? 1 - 2 * edge : 0;
+      const int col = lp.n_edges++;
+      lp.edge_contact.push_back(static_cast<int>(k));
+      lp.edge_sign.push_back(static_cast<signed char>(s));
+      const double tau = s * mu;  // tangential component of the edge
+      const double ex = f.nx + tau * f.tx, ey = f.ny + tau * f.ty;
+      // -f acts on i, +f on j; the torque of the contact is -a F_T on both (contact_law.hpp).
+      if (!net.pinned[i]) {
+        add(3 * i, col, -ex);
+        add(3 * i + 1, col, -ey);
+      }
+      if (!net.torque_dropped[i]) add(3 * i + 2, col, -(f.a_i / a) * tau);
+      if (!is_wall(j)) {
+        if (!net.pinned[j]) {
+          add(3 * j, col, ex);
+          add(3 * j + 1, col, ey);
+        }
+        if (!net.torque_dropped[j]) add(3 * j + 2, col, -(f.a_j / a) * tau);
+        if (cell.periodic()) {
+          add(s_row, col, (f.lx / a) * ex);
+          add(s_row + 1, col, (f.ly / a) * ey);
+        }
+      } else if (j == wall_right) {
+        // Balance of the mobile wall, times L_1: sum f_x L_1 = L_1 L_2 sigma_1 = A sigma_1.
+        add(s_row, col, (cell.length[0] / a) * ex);
+      } else if (j == wall_top) {
+        add(s_row + 1, col, (cell.length[1] / a) * ey);
+      }
+    }
+  }
+  add(s_row, lp.s1_column(), -lp.area);
+  add(s_row + 1, lp.s1_column(), lp.area);
+
+  // Merge duplicates (a disk touching its own image gets +f and -f: they cancel exactly), drop
+  // zeros, and keep only rows with entries: an empty row reads 0 = 0 (e.g. the torque row of a
+  // disk whose contacts are all frictionless).
+  std::sort(entries.begin(), entries.end(), [](const auto& p, const auto& q) {
+    return std::tie(std::get<0>(p), std::get<1>(p)) < std::tie(std::get<0>(q), std::get<1>(q));
+  });
+  std::vector<int> new_row(3 * n + 2, -1);
+  for (std::size_t e = 0; e < entries.size();) {
+    const auto [r, col, v0] = entries[e];
+    double v = v0;
+    std::size_t next = e + 1;
+    for (; next < entries.size() && std::get<0>(entries[next]) == r &&
+           std::get<1>(entries[next]) == col;
+         ++next)
+      v += std::get<2>(entries[next]);
+    e = next;
+    if (v == 0.0) continue;
+    if (new_row[r] < 0) {
+      new_row[r] = lp.n_rows();
+      const bool stress = r >= s_row;
+      lp.rhs.push_back(r == s_row + 1 ? 2.0 * lp.area : 0.0);
+      lp.row_kind.push_back(stress ? RowKind::stress : static_cast<RowKind>(r % 3));
+      lp.row_index.push_back(stress ? r - s_row : r / 3);
+    }
+    lp.row.push_back(new_row[r]);
+    lp.col.push_back(col);
+    lp.val.push_back(v);
+  }
+  return lp;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ipopt interface: minimise (or maximise) s1 subject to the LP rows, x >= 0.
+
+class RigidLimitTnlp : public Ipopt::TNLP {
+ public:
+  RigidLimitTnlp(const LinearProgram& lp, double objective_sign)
+      : lp_(lp), sign_(objective_sign) {}
+
+  std::vector<double> x, multipliers;
+  double s1 = std::numeric_limits<double>::quiet_NaN();
+
+  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac, Ipopt::Index& nnz_h,
+                    IndexStyleEnum& style) override {
+    n = lp_.n_columns();
+    m = lp_.n_rows();
+    nnz_jac = static_cast<Ipopt::Index>(lp_.val.size());
+    nnz_h = 0;
+    style = C_STYLE;
+    return true;
+  }
+  bool get_bounds_info(Ipopt::Index n, Ipopt::Number* xl, Ipopt::Number* xu, Ipopt::Index m,
+                       Ipopt::Number* gl, Ipopt::Number* gu) override {
+    for (Ipopt::Index k = 0; k < n; ++k) {
+      xl[k] = 0.0;
+      xu[k] = infinity;
+    }
+    xl[lp_.s1_column()] = -infinity;  // s1 is free: friction can make sigma_1 tensile
+    for (Ipopt::Index r = 0; r < m; ++r) gl[r] = gu[r] = lp_.rhs[r];
+    return true;
+  }
+  bool get_starting_point(Ipopt::Index n, bool, Ipopt::Number* x0, bool, Ipopt::Number*,
+                          Ipopt::Number*, Ipopt::Index, bool, Ipopt::Number*) override {
+    std::fill(x0, x0 + n, 1.0);  // forces of order a P
+    return true;
+  }
+  bool eval_f(Ipopt::Index, const Ipopt::Number* xv, bool, Ipopt::Number& f) override {
+    f = sign_ * xv[lp_.s1_column()];
+    return true;
+  }
+  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number*, bool, Ipopt::Number* g) override {
+    std::fill(g, g + n, 0.0);
+    g[lp_.s1_column()] = sign_;
+    return true;
+  }
+  bool eval_g(Ipopt::Index, const Ipopt::Number* xv, bool, Ipopt::Index m,
+              Ipopt::Number* g) override {
+    std::fill(g, g + m, 0.0);
+    for (std::size_t e = 0; e < lp_.val.size(); ++e) g[lp_.row[e]] += lp_.val[e] * xv[lp_.col[e]];
+    return true;
+  }
+  bool eval_jac_g(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Index, Ipopt::Index,
+                  Ipopt::Index* rows, Ipopt::Index* cols, Ipopt::Number* v) override {
+    if (v == nullptr) {
+      std::copy(lp_.row.begin(), lp_.row.end(), rows);
+      std::copy(lp_.col.begin(), lp_.col.end(), cols);
+    } else {
+      std::copy(lp_.val.begin(), lp_.val.end(), v);
+    }
+    return true;
+  }
+  bool eval_h(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Number, Ipopt::Index,
+              const Ipopt::Number*, bool, Ipopt::Index, Ipopt::Index*, Ipopt::Index*,
+              Ipopt::Number*) override {
+    return true;  // an LP: no Hessian entries, but Ipopt still asks (DEPS.md #4)
+  }
+  void finalize_solution(Ipopt::SolverReturn, Ipopt::Index n, const Ipopt::Number* xv,
+                         const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index m,
+                         const Ipopt::Number*, const Ipopt::Number* lambda, Ipopt::Number,
+                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+    x.assign(xv, xv + n);
+    multipliers.assign(lambda, lambda + m);
+    s1 = xv[lp_.s1_column()];
+  }
+
+ private:
+  static constexpr double infinity = 2e19;  // beyond Ipopt's nlp_*_bound_inf (1e19)
+  const LinearProgram& lp_;
+  double sign_;
+};
+
+std::string status_name(Ipopt::ApplicationReturnStatus s) {
+  switch (s) {
+    case Ipopt::Solve_Succeeded: return "Solve_Succeeded";
+    case Ipopt::Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
+    case Ipopt::Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
+    case Ipopt::Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
+    case Ipopt::Diverging_Iterates: return "Diverging_Iterates";
+    case Ipopt::User_Requested_Stop: return "User_Requested_Stop";
+    case Ipopt::Feasible_Point_Found: return "Feasible_Point_Found";
+    case Ipopt::Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
+    case Ipopt::Restoration_Failed: return "Restoration_Failed";
+    case Ipopt::Error_In_Step_Computation: return "Error_In_Step_Computation";
+    case Ipopt::Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
+    case Ipopt::Not_Enough_Degrees_Of_Freedom: return "Not_Enough_Degrees_Of_Freedom";
+    case Ipopt::Invalid_Problem_Definition: return "Invalid_Problem_Definition";
+    case Ipopt::Invalid_Option: return "Invalid_Option";
+    case Ipopt::Invalid_Number_Detected: return "Invalid_Number_Detected";
+    case Ipopt::Unrecoverable_Exception: return "Unrecoverable_Exception";
+    case Ipopt::NonIpopt_Exception_Thrown: return "NonIpopt_Exception_Thrown";
+    case Ipopt::Insufficient_Memory: return "Insufficient_Memory";
+    case Ipopt::Internal_Error: return "Internal_Error";
+  }
+  return "unknown status " + std::to_string(static_cast<int>(s));
+}
+
+struct Solve {
+  Ipopt::ApplicationReturnStatus status = Ipopt::Internal_Error;
+  int iterations = 0;
+  Ipopt::SmartPtr<RigidLimitTnlp> tnlp;
+};
+
+Solve solve(const LinearProgram& lp, double objective_sign, const RigidLimitOptions& options) {
+  Solve out;
+  out.tnlp = new RigidLimitTnlp(lp, objective_sign);
+  const std::lock_guard<std::mutex> lock(ipopt_mutex());  // DEPS.md #5
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  Ipopt::OptionsList& o = *app->Options();
+  o.SetStringValue("sb", "yes");
+  o.SetIntegerValue("print_level", 0);
+  o.SetNumericValue("bound_relax_factor", 0.0);  // exact F_N >= 0 and cone edges (DEPS.md #4)
+  o.SetStringValue("hessian_constant", "yes");
+  o.SetStringValue("jac_c_constant", "yes");
+  o.SetStringValue("jac_d_constant", "yes");
+  // Not mehrotra_algorithm: it was not faster on these LPs and ran into max_iter on infeasible
+  // networks, where the default algorithm reports Infeasible_Problem_Detected.
+  o.SetNumericValue("tol", options.tolerance);
+  o.SetNumericValue("constr_viol_tol", options.tolerance);
+  o.SetIntegerValue("max_iter", options.max_iterations);
+  out.status = app->Initialize("");  // "" so no stray ipopt.opt is read
+  if (out.status != Ipopt::Solve_Succeeded) return out;
+  out.status = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(out.tnlp));
+  if (Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app->Statistics(); Ipopt::IsValid(stats))
+    out.iterations = stats->IterationCount();
+  return out;
+}
+
+bool succeeded(Ipopt::ApplicationReturnStatus s) { return s == Ipopt::Solve_Succeeded; }
+
+// ---------------------------------------------------------------------------------------------
+// Results.
+
+void fill_forces(const Configuration& config, const LinearProgram& lp, const FrozenNetwork& net,
+                 const std::vector<double>& x, double force_scale, RigidLimitResult& out) {
+  out.f_n.assign(config.contacts.size(), 0.0);
+  out.f_t.assign(config.contacts.size(), 0.0);
+  for (int e = 0; e < lp.n_edges; ++e) {
+    const int k = lp.edge_contact[e];
+    out.f_n[k] += force_scale * x[e];
+    out.f_t[k] += force_scale * lp.edge_sign[e] * net.mu[k] * x[e];
+  }
+}
+
+// Multipliers of the scaled rows are the mechanism in units of a (docs/static.md): u = a y_u,
+// theta = y_theta, e = y_e; normalised to e_2 = -1.
+void fill_mechanism(const Configuration& config, const LinearProgram& lp,
+                    const std::vector<double>& y, RigidLimitResult& out) {
+  const std::size_t n = config.disks.size();
+  out.mechanism_ux.assign(n, 0.0);
+  out.mechanism_uy.assign(n, 0.0);
+  out.mechanism_theta.assign(n, 0.0);
+  out.mechanism_e.assign(2, 0.0);
+  for (int r = 0; r < lp.n_rows(); ++r) {
+    const int i = lp.row_index[r];
+    switch (lp.row_kind[r]) {
+      case RowKind::force_x: out.mechanism_ux[i] = lp.length_unit * y[r]; break;
+      case RowKind::force_y: out.mechanism_uy[i] = lp.length_unit * y[r]; break;
+      case RowKind::torque: out.mechanism_theta[i] = y[r]; break;
+      case RowKind::stress: out.mechanism_e[i] = y[r]; break;
+    }
+  }
+  const double e2 = out.mechanism_e[1];
+  if (!(e2 < 0.0)) return;  // degenerate dual: leave the raw multipliers
+  for (auto* v : {&out.mechanism_ux, &out.mechanism_uy, &out.mechanism_theta, &out.mechanism_e})
+    for (double& value : *v) value /= -e2;
+}
+
+// Largest violation of the balance rows by the returned forces, recomputed from the
+// configuration (not from the LP matrix) so that it also checks the assembly.
+double balance_residual(const Configuration& config, const FrozenNetwork& net,
+                        const RigidLimitResult& r, double sigma1, double sigma2) {
+  const Contacts& c = config.contacts;
+  const Cell& cell = config.cell;
+  const std::size_t n = config.disks.size();
+  std::vector<double> fx(n, 0.0), fy(n, 0.0), torque(n, 0.0);
+  double stress1 = 0.0, stress2 = 0.0;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const ContactFrame& f = net.frame[k];
+    const double gx = r.f_n[k] * f.nx + r.f_t[k] * f.tx, gy = r.f_n[k] * f.ny + r.f_t[k] * f.ty;
+    const int i = c.i[k], j = c.j[k];
+    fx[i] -= gx;
+    fy[i] -= gy;
+    torque[i] -= f.a_i * r.f_t[k];
+    if (!is_wall(j)) {
+      fx[j] += gx;
+      fy[j] += gy;
+      torque[j] -= f.a_j * r.f_t[k];
+      if (cell.periodic()) {
+        stress1 += f.lx * gx;
+        stress2 += f.ly * gy;
+      }
+    } else if (j == wall_right) {
+      stress1 += cell.length[0] * gx;
+    } else if (j == wall_top) {
+      stress2 += cell.length[1] * gy;
+    }
+  }
+  double worst = std::max(std::abs(stress1 - cell.area() * sigma1),
+                          std::abs(stress2 - cell.area() * sigma2));
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!net.disk_active[i]) continue;
+    worst = std::max({worst, std::abs(fx[i]), std::abs(fy[i]), std::abs(torque[i])});
+  }
+  return worst;
+}
+
+RigidLimitResult failure(RigidLimitResult r, std::string status) {
+  r.q_max = std::numeric_limits<double>::quiet_NaN();
+  r.solved = false;
+  r.bounded = false;
+  r.status = std::move(status);
+  return r;
+}
+
+}  // namespace
+
+RigidLimitResult rigid_limit(const Configuration& config, const RigidLimitOptions& options) {
+  check_configuration(config, options);
+  const FrozenNetwork net = build_network(config);
+  const LinearProgram lp = assemble(config, net);
+
+  RigidLimitResult result;
+  result.n_disks = static_cast<std::size_t>(
+      std::count(net.disk_active.begin(), net.disk_active.end(), 1));
+  result.n_contacts =
+      static_cast<std::size_t>(std::count(net.active.begin(), net.active.end(), 1));
+  result.in_lp.assign(net.active.begin(), net.active.end());
+  if (lp.n_edges == 0)
+    return failure(result, "infeasible: no contact network carries stress (no contact with h > 0 "
+                           "in a load-bearing cluster)");
+
+  // Smallest sigma_1 at sigma_1 + sigma_2 = 2 P: the direction of largest sigma_2 / sigma_1.
+  const Solve lowest = solve(lp, +1.0, options);
+  result.iterations = lowest.iterations;
+  if (lowest.status == Ipopt::Infeasible_Problem_Detected)
+    return failure(result, "infeasible: the network cannot balance any compressive stress");
+  if (!succeeded(lowest.status)) return failure(result, "ipopt: " + status_name(lowest.status));
+  const double s1_min = lowest.tnlp->s1;
+
+  if (s1_min <= options.unbounded_threshold) {
+    // q grows without bound along the ray towards sigma_1 -> 0, provided sigma_1 > 0 is
+    // attainable at all: check the largest sigma_1.
+    const Solve highest = solve(lp, -1.0, options);
+    result.iterations += highest.iterations;
+    if (!succeeded(highest.status))
+      return failure(result, "ipopt: " + status_name(highest.status));
+    if (highest.tnlp->s1 <= options.unbounded_threshold)
+      return failure(result, "infeasible: the network cannot carry sigma_1 > 0");
+    result.q_max = std::numeric_limits<double>::infinity();
+    result.solved = true;
+    result.bounded = false;
+    result.status = "unbounded";
+    return result;
+  }
+
+  result.q_max = 2.0 / s1_min - 2.0;
+  result.solved = true;
+  result.bounded = true;
+  result.status = "optimal";
+  // Rescale the normalised forces (units of a P, sigma_1 = s1_min P) to sigma_1 = options.sigma1.
+  fill_forces(config, lp, net, lowest.tnlp->x, lp.length_unit * options.sigma1 / s1_min, result);
+  fill_mechanism(config, lp, lowest.tnlp->multipliers, result);
+  result.max_residual = balance_residual(config, net, result, options.sigma1,
+                                         options.sigma1 * (1.0 + result.q_max));
+  return result;
+}
+
+}  // namespace granstab::statics
