@@ -64,45 +64,52 @@ inline double viscous_share_opening(double h, double h_rate, double dt) {
   return 1.0 - 2.0 * tau / dt;
 }
 
-// Image of a separation along one periodic axis, as in common/cell.hpp (one expression for
-// forces and for the exported contact list).
-inline double minimum_image(double dx, double length) {
-  return dx + minimum_image_shift(dx, length) * length;
+// Minimum image of a separation of two wrapped positions (|dx| < L): a compare instead of a
+// division and a rounding. Contacts are far shorter than L/2 (pair_search checks), so the
+// image agrees with common/cell.hpp's minimum_image_shift used for the exported list.
+inline double minimum_image(double dx, double length, double half_length) {
+  if (dx > half_length) return dx - length;
+  if (dx < -half_length) return dx + length;
+  return dx;
 }
 
 void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int i,
                  BlockSums& sums) {
   const Material& mat = *in.material;
+  const double half_l1 = 0.5 * in.length[0], half_l2 = 0.5 * in.length[1];
+  const double xi = d.x[i], yi = d.y[i], ri = d.radius[i];
   for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
     const int j = pairs.j[p];
-    double dx = d.x[j] - d.x[i], dy = d.y[j] - d.y[i];
+    double dx = d.x[j] - xi, dy = d.y[j] - yi;
     if (in.periodic) {
-      dx = minimum_image(dx, in.length[0]);
-      dy = minimum_image(dy, in.length[1]);
+      dx = minimum_image(dx, in.length[0], half_l1);
+      dy = minimum_image(dy, in.length[1], half_l2);
     }
-    const double reach = d.radius[i] + d.radius[j];
+    const double reach = ri + d.radius[j];
     const bool was_closed = pairs.f_n[p] > 0.0;
-    const double affine_tx = in.periodic ? in.rate_tangential[0] * dx : 0.0;
-    const double affine_ty = in.periodic ? in.rate_tangential[1] * dy : 0.0;
-    const double dvx = d.vx[j] - d.vx[i] + affine_tx, dvy = d.vy[j] - d.vy[i] + affine_ty;
+    PairArrays::Force& out = pairs.force[p];
     if (dx * dx + dy * dy >= reach * reach) {
-      // Open: the tangential state is dropped (SPEC §1.1). A contact that opened during the
-      // step keeps, for the closing half kick only, the share of its viscous force that
-      // belongs to the part of the step it was still closed (see viscous_share).
+      if (!was_closed) continue;  // open before and after: every slot is still zero
+      // Opened during the step: the tangential state is dropped (SPEC §1.1), and the closing
+      // half kick keeps the share of the viscous force of the part of the step it was closed.
       double share = 0.0;
-      if (was_closed && in.dt > 0.0) {
-        const ContactFrame f = disk_disk_frame(dx, dy, d.radius[i], d.radius[j]);
-        share = viscous_share_opening(f.h, deflection_rate(f, dvx, dvy), in.dt);
+      if (in.dt > 0.0) {
+        const ContactFrame f = disk_disk_frame(dx, dy, ri, d.radius[j]);
+        const double affine_x = in.periodic ? in.rate_tangential[0] * dx : 0.0;
+        const double affine_y = in.periodic ? in.rate_tangential[1] * dy : 0.0;
+        const double h_rate = deflection_rate(f, d.vx[j] - d.vx[i] + affine_x,
+                                              d.vy[j] - d.vy[i] + affine_y);
+        share = viscous_share_opening(f.h, h_rate, in.dt);
       }
-      pairs.fvx[p] *= share;
-      pairs.fvy[p] *= share;
+      out = {0.0, 0.0, share * out.fvx, share * out.fvy, 0.0, 0.0};
       pairs.delta_t[p] = 0.0;
-      pairs.fx[p] = pairs.fy[p] = 0.0;
-      pairs.torque_i[p] = pairs.torque_j[p] = 0.0;
       pairs.f_n[p] = pairs.f_t[p] = 0.0;
       continue;
     }
-    const ContactFrame f = disk_disk_frame(dx, dy, d.radius[i], d.radius[j]);
+    const ContactFrame f = disk_disk_frame(dx, dy, ri, d.radius[j]);
+    const double affine_tx = in.periodic ? in.rate_tangential[0] * dx : 0.0;
+    const double affine_ty = in.periodic ? in.rate_tangential[1] * dy : 0.0;
+    const double dvx = d.vx[j] - d.vx[i] + affine_tx, dvy = d.vy[j] - d.vy[i] + affine_ty;
     const double rate = tangential_rate(f, dvx, dvy, d.omega[i], d.omega[j]);
     const double affine_vx = in.periodic ? in.rate_viscous[0] * dx : 0.0;
     const double affine_vy = in.periodic ? in.rate_viscous[1] * dy : 0.0;
@@ -120,24 +127,20 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
     pairs.ly[p] = dy;
     const double fx = c.f_n * f.nx + c.f_t * f.tx;
     const double fy = c.f_n * f.ny + c.f_t * f.ty;
-    pairs.fx[p] = fx;
-    pairs.fy[p] = fy;
     // A contact that closed during the step gets, for the closing half kick only, the share
-    // of its viscous force that belongs to the part of the step it was closed.
+    // of its viscous force of the part of the step it was closed.
     const double share =
         was_closed || in.dt == 0.0
             ? 1.0
             : viscous_share_closing(f.h, deflection_rate(f, dvx, dvy), in.dt);
-    pairs.fvx[p] = share * c.f_v * f.nx;
-    pairs.fvy[p] = share * c.f_v * f.ny;
-    pairs.torque_i[p] = -f.a_i * c.f_t;
-    pairs.torque_j[p] = -f.a_j * c.f_t;
+    const double fvx = share * c.f_v * f.nx, fvy = share * c.f_v * f.ny;
+    out = {fx, fy, fvx, fvy, -f.a_i * c.f_t, -f.a_j * c.f_t};
     sums.sigma[0] += fx * dx;
     sums.sigma[1] += fx * dy;
     sums.sigma[2] += fy * dx;
     sums.sigma[3] += fy * dy;
-    sums.sigma_viscous[0] += pairs.fvx[p] * dx;
-    sums.sigma_viscous[1] += pairs.fvy[p] * dy;
+    sums.sigma_viscous[0] += fvx * dx;
+    sums.sigma_viscous[1] += fvy * dy;
   }
 }
 
@@ -145,8 +148,10 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
 void pair_viscous(const DiskArrays& /*disks*/, PairArrays& pairs, const ForceInputs& in, int i,
                   BlockSums& sums) {
   for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
+    PairArrays::Force& out = pairs.force[p];
     if (!(pairs.f_n[p] > 0.0)) {
-      pairs.fvx[p] = pairs.fvy[p] = 0.0;  // drops the share kept by a contact that opened
+      // Drops the share kept by a contact that opened during the step.
+      if (out.fvx != 0.0 || out.fvy != 0.0) out.fvx = out.fvy = 0.0;
       continue;
     }
     const int j = pairs.j[p];
@@ -160,10 +165,10 @@ void pair_viscous(const DiskArrays& /*disks*/, PairArrays& pairs, const ForceInp
         deflection_rate(f, in.vx_viscous[j] - in.vx_viscous[i] + affine_vx,
                         in.vy_viscous[j] - in.vy_viscous[i] + affine_vy);
     const double f_v = pairs.alpha[p] * h_rate;  // as contact_force() computes it
-    pairs.fvx[p] = f_v * f.nx;
-    pairs.fvy[p] = f_v * f.ny;
-    sums.sigma_viscous[0] += pairs.fvx[p] * dx;
-    sums.sigma_viscous[1] += pairs.fvy[p] * dy;
+    out.fvx = f_v * f.nx;
+    out.fvy = f_v * f.ny;
+    sums.sigma_viscous[0] += out.fvx * dx;
+    sums.sigma_viscous[1] += out.fvy * dy;
   }
 }
 
@@ -237,19 +242,20 @@ void accumulate(DiskArrays& d, const PairArrays& pairs, const ForceInputs& in, c
                 int i, bool viscous_only, BlockSums& sums) {
   double fx = 0.0, fy = 0.0, fvx = 0.0, fvy = 0.0, torque = 0.0;
   for (int s = pairs.column_start[i]; s < pairs.column_start[i + 1]; ++s) {
-    const int p = pairs.column_pair[s];
-    fx += pairs.fx[p];
-    fy += pairs.fy[p];
-    fvx += pairs.fvx[p];
-    fvy += pairs.fvy[p];
-    torque += pairs.torque_j[p];
+    const PairArrays::Force& f = pairs.force[pairs.column_pair[s]];
+    fx += f.fx;
+    fy += f.fy;
+    fvx += f.fvx;
+    fvy += f.fvy;
+    torque += f.torque_j;
   }
   for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
-    fx -= pairs.fx[p];
-    fy -= pairs.fy[p];
-    fvx -= pairs.fvx[p];
-    fvy -= pairs.fvy[p];
-    torque += pairs.torque_i[p];
+    const PairArrays::Force& f = pairs.force[p];
+    fx -= f.fx;
+    fy -= f.fy;
+    fvx -= f.fvx;
+    fvy -= f.fvy;
+    torque += f.torque_i;
   }
   if (!in.periodic) wall_forces(d, in, cell, i, viscous_only, fx, fy, fvx, fvy, torque, sums);
   d.fvx[i] = fvx;

@@ -51,9 +51,9 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
     d.y[i] = y;
     d.theta[i] += dt * d.omega[i];
     double ex = x * sx - ref_x[i], ey = y * sy - ref_y[i];
-    if (periodic) {
-      ex -= std::nearbyint(ex);
-      ey -= std::nearbyint(ey);
+    if (periodic) {  // |ex| < 1: nearest image by comparison (no rounding call)
+      ex = ex > 0.5 ? ex - 1.0 : (ex < -0.5 ? ex + 1.0 : ex);
+      ey = ey > 0.5 ? ey - 1.0 : (ey < -0.5 ? ey + 1.0 : ey);
     }
     ex *= ux;
     ey *= uy;

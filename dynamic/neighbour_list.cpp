@@ -41,8 +41,7 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
   old_row_start_.swap(pairs.row_start);
   old_delta_t_.swap(pairs.delta_t);
   old_f_n_.swap(pairs.f_n);
-  old_fvx_.swap(pairs.fvx);
-  old_fvy_.swap(pairs.fvy);
+  old_force_.swap(pairs.force);
   const bool had_list = built_ && old_row_start_.size() == n + 1;
 
   const std::size_t m = found_.size();
@@ -54,8 +53,7 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
 
   pairs.delta_t.assign(m, 0.0);
   pairs.f_n.assign(m, 0.0);
-  pairs.fvx.assign(m, 0.0);
-  pairs.fvy.assign(m, 0.0);
+  pairs.force.assign(m, PairArrays::Force{});
   if (had_list) {
     for (std::size_t i = 0; i < n; ++i) {
       int q = old_row_start_[i];
@@ -67,8 +65,8 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
           // (and how hard) it was closed, which the next force pass needs.
           pairs.delta_t[p] = old_delta_t_[q];
           pairs.f_n[p] = old_f_n_[q];
-          pairs.fvx[p] = old_fvx_[q];
-          pairs.fvy[p] = old_fvy_[q];
+          pairs.force[p].fvx = old_force_[q].fvx;
+          pairs.force[p].fvy = old_force_[q].fvy;
         }
       }
     }
@@ -89,8 +87,7 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
   for (std::size_t p = 0; p < m; ++p) {
     pairs.alpha[p] = material.damping_coefficient(disks.mass[pairs.i[p]], disks.mass[pairs.j[p]]);
   }
-  for (auto* v : {&pairs.fx, &pairs.fy, &pairs.torque_i, &pairs.torque_j, &pairs.nx, &pairs.ny,
-                  &pairs.lx, &pairs.ly, &pairs.f_t}) {
+  for (auto* v : {&pairs.nx, &pairs.ny, &pairs.lx, &pairs.ly, &pairs.f_t}) {
     v->assign(m, 0.0);
   }
 

@@ -43,7 +43,8 @@ class NeighbourList {
   PairSearch search_;
   PairList found_;
   std::vector<std::int32_t> old_i_, old_j_, old_row_start_;
-  std::vector<double> old_delta_t_, old_f_n_, old_fvx_, old_fvy_;
+  std::vector<double> old_delta_t_, old_f_n_;
+  std::vector<PairArrays::Force> old_force_;
 };
 
 }  // namespace granstab::dynamic

@@ -37,10 +37,14 @@ struct PairArrays {
   std::vector<std::int32_t> row_start;                  // N + 1
   std::vector<std::int32_t> column_start, column_pair;  // N + 1, size()
   std::vector<double> alpha, delta_t;
-  // Outputs of the force pass (zero for open pairs).
-  std::vector<double> fx, fy;    // elastic + frictional force of i on j
-  std::vector<double> fvx, fvy;  // viscous force of i on j
-  std::vector<double> torque_i, torque_j;
+  // Outputs of the force pass (zero for open pairs), one struct per pair: the per-disk sums
+  // reach them through the transposed incidence, one cache line per pair.
+  struct Force {
+    double fx, fy;    // elastic + frictional force of i on j
+    double fvx, fvy;  // viscous force of i on j
+    double torque_i, torque_j;
+  };
+  std::vector<Force> force;
   std::vector<double> nx, ny, lx, ly, f_n, f_t;
   std::size_t size() const { return i.size(); }
 };
