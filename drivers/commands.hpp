@@ -10,5 +10,6 @@ namespace granstab::cli {
 
 void add_version_command(CLI::App& app);
 void add_info_command(CLI::App& app);
+void add_prepare_command(CLI::App& app);
 
 }  // namespace granstab::cli
