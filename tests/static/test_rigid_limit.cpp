@@ -4,6 +4,7 @@
 // values prove optimality without trusting Ipopt).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -106,10 +107,11 @@ void expect_certified(const Configuration& c, const RigidLimitResult& r, double 
     EXPECT_NEAR(torque[i], 0.0, 1e-8) << "disk " << i;
   }
   EXPECT_NEAR(a_sigma1 / c.cell.area(), 1.0, 1e-8);
-  EXPECT_NEAR(a_sigma2 / c.cell.area(), 1.0 + r.q_max, 1e-8 * (1.0 + r.q_max));
+  const double scale = std::max(1.0, std::abs(r.q_max));
+  EXPECT_NEAR(a_sigma2 / c.cell.area(), 1.0 + r.q_max, 1e-8 * scale);
   EXPECT_LE(r.max_residual, 1e-8);
   EXPECT_DOUBLE_EQ(r.mechanism_e[1], -1.0);
-  EXPECT_NEAR(r.mechanism_e[0] - 1.0, r.q_max, tol * (1.0 + r.q_max));  // weak duality gap
+  EXPECT_NEAR(r.mechanism_e[0] - 1.0, r.q_max, tol * scale);  // weak duality gap
 }
 
 // Two equal disks per L1 x L2 cell forming a rhombic lattice: contacts along +-phi only
@@ -271,6 +273,34 @@ TEST(RigidLimit, NothingOnRightWallIsInfeasible) {
   empty.disks.add(1.0, 1.0, 0.5);
   const RigidLimitResult none = rigid_limit(empty);
   EXPECT_FALSE(none.solved);
+  EXPECT_EQ(none.status.rfind("infeasible", 0), 0u) << none.status;
+}
+
+// A periodic zigzag chain, two equal disks per cell, contacts at +theta and 180 - theta degrees.
+// Each disk has two contacts, so both forces lie on the chord through its contact points; all
+// contact points lie on one horizontal line, so the chain carries a horizontal force iff the
+// cones allow it, mu >= tan(theta). Then sigma_2 = 0 exactly: q_max = -1. Otherwise no force
+// set exists at all.
+Configuration zigzag_chain(double theta, double mu) {
+  const double radius = 0.5, d = 2 * radius - 1e-4;
+  Configuration c = periodic_cell(2 * d * std::cos(theta), 3.0, mu);
+  c.disks.add(0.2, 1.0, radius);
+  c.disks.add(0.2 + d * std::cos(theta), 1.0 + d * std::sin(theta), radius);
+  add_overlapping_contacts(c);
+  return c;
+}
+
+TEST(RigidLimit, ZigzagChainNeedsFrictionAngle) {
+  const double theta = 20.0 * pi / 180.0;  // tan(theta) = 0.364
+  const Configuration carried = zigzag_chain(theta, 0.5);
+  ASSERT_EQ(carried.contacts.size(), 2u);
+  const RigidLimitResult r = rigid_limit(carried);
+  EXPECT_NEAR(r.q_max, -1.0, 1e-8) << r.status;
+  expect_certified(carried, r, 1e-7);
+
+  const RigidLimitResult none = rigid_limit(zigzag_chain(theta, 0.3));
+  EXPECT_FALSE(none.solved);
+  EXPECT_TRUE(std::isnan(none.q_max));
   EXPECT_EQ(none.status.rfind("infeasible", 0), 0u) << none.status;
 }
 
