@@ -607,6 +607,10 @@ RigidLimitResult rigid_limit(const Configuration& config, const RigidLimitOption
   result.iterations = lowest.iterations;
   if (lowest.status == Ipopt::Infeasible_Problem_Detected)
     return failure(result, "infeasible: the network cannot balance any compressive stress");
+  if (lowest.status == Ipopt::Not_Enough_Degrees_Of_Freedom)
+    return failure(result, "ipopt: Not_Enough_Degrees_Of_Freedom (" + std::to_string(lp.n_rows()) +
+                               " balance rows, " + std::to_string(lp.n_columns()) +
+                               " force unknowns: a hypostatic network, generically infeasible)");
   if (!succeeded(lowest.status)) return failure(result, "ipopt: " + status_name(lowest.status));
   const double s1_min = lowest.tnlp->s1;
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -14,6 +15,7 @@
 
 #include "common/configuration.hpp"
 #include "common/contact_law.hpp"
+#include "common/io/configuration_file.hpp"
 #include "static/rigid_limit.hpp"
 
 namespace granstab::statics {
@@ -338,6 +340,26 @@ TEST(RigidLimit, DisorderedNetworkIsCertifiedOptimal) {
     const RigidLimitResult r2 = rigid_limit(c, twice);
     EXPECT_NEAR(r2.q_max, r.q_max, 1e-7 * (1.0 + r.q_max));
   }
+}
+
+// The shipped sample (isotropic MD equilibrium, mu_prep = 0.15): its own contact forces balance
+// q = 0 within the cone (to the SPEC §3.1 tolerances), so q_max >= 0 at mu = 0.15; larger cones
+// can only raise q_max. Frictionless, the z = 3.5 network is hypostatic: a failure, reported.
+TEST(RigidLimit, ShippedSample) {
+  Configuration c = read_configuration(std::filesystem::path(GRANSTAB_SOURCE_DIR) /
+                                       "data/samples/periodic-n100-k1e4.granstab");
+  double previous = 0.0;
+  for (const double mu : {0.15, 0.3, 0.5}) {
+    c.material.mu = mu;
+    const RigidLimitResult r = rigid_limit(c);
+    EXPECT_GE(r.q_max, previous) << "mu " << mu << " " << r.status;
+    expect_certified(c, r, 1e-6);
+    previous = r.q_max;
+  }
+  c.material.mu = 0.0;
+  const RigidLimitResult frictionless = rigid_limit(c);
+  EXPECT_FALSE(frictionless.solved);
+  EXPECT_TRUE(std::isnan(frictionless.q_max));
 }
 
 // Debian's sequential MUMPS aborts on concurrent use: the mutex inside rigid_limit() must make
