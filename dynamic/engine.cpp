@@ -91,6 +91,7 @@ Engine::Engine(const Configuration& config, const EngineOptions& options)
   time_scale_ = std::sqrt(m_min / material_.k_n);
   dt_ = options.dt_fraction * time_scale_;
 
+  apply_stage(config.stage);
   neighbours_.rebuild(disks_, cell_, pairs_, material_);
   import_contacts(config.contacts);
   evaluate_state();
@@ -179,14 +180,31 @@ void Engine::set_dt(double dt) {
   dt_ = dt;
 }
 
-void Engine::set_stage(const Stage& stage) {
+// Validates and takes the stage; strain-rate controlled and fixed axes carry their imposed
+// rate in the synchronous state too. Returns whether a rate changed.
+bool Engine::apply_stage(const Stage& stage) {
   for (int a = 0; a < 2; ++a) {
     require(std::isfinite(stage.sigma_ext[a]), "stage.sigma_ext must be finite");
     require(std::isfinite(stage.strain_rate[a]), "stage.strain_rate must be finite");
     require(stage.reference_length[a] > 0.0, "stage.reference_length must be > 0");
   }
   stage_ = stage;
-  control_cell();
+  bool changed = false;
+  for (int a = 0; a < 2; ++a) {
+    if (stage_.control[a] == LengthControl::stress) continue;
+    const double rate = dynamic::imposed_length_rate(stage_, a);
+    changed |= rate != cell_.length_rate[a];
+    cell_.length_rate[a] = rate;
+  }
+  return changed;
+}
+
+void Engine::set_stage(const Stage& stage) {
+  if (apply_stage(stage)) {
+    evaluate_state();  // the viscous forces of the state see the new rates
+  } else {
+    control_cell();
+  }
 }
 
 void Engine::set_sigma_ext(int axis, double sigma) {
@@ -210,9 +228,6 @@ void Engine::set_strain_rate_control(int axis, double strain_rate) {
   s.control[axis] = LengthControl::strain_rate;
   s.strain_rate[axis] = strain_rate;
   set_stage(s);
-  // The imposed rate holds from now on; the synchronous state carries it too.
-  cell_.length_rate[axis] = dynamic::imposed_length_rate(stage_, axis);
-  evaluate_state();
 }
 
 void Engine::set_fixed(int axis) {
@@ -220,8 +235,6 @@ void Engine::set_fixed(int axis) {
   Stage s = stage_;
   s.control[axis] = LengthControl::fixed;
   set_stage(s);
-  cell_.length_rate[axis] = 0.0;
-  evaluate_state();
 }
 
 void Engine::set_measure(StressMeasure measure) {

@@ -101,6 +101,7 @@ class Engine {
 
  private:
   void evaluate_state();  // forces and cell acceleration of the current state (no increment)
+  bool apply_stage(const Stage& stage);
   void control_cell();
   void refresh_viscous_forces();
   dynamic::ForceInputs force_inputs(double dt_tangential, bool end_of_step) const;

@@ -53,9 +53,13 @@ EquilibrationResult run_to_equilibrium(Engine& engine, const EquilibrationOption
   for (;;) {
     engine.export_to(state);
     result.report = check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
-    if (observer) observer(engine, state, result.report);
+    const bool go_on = !observer || observer(engine, state, result.report);
     if (result.report.in_equilibrium) {
       result.reached = true;
+      return result;
+    }
+    if (!go_on) {
+      result.aborted = true;
       return result;
     }
     if (result.steps >= options.max_steps) return result;

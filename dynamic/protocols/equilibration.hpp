@@ -20,13 +20,15 @@ struct EquilibrationOptions {
 
 struct EquilibrationResult {
   bool reached = false;
+  bool aborted = false;      // the observer asked to stop
   std::uint64_t steps = 0;   // steps run by this call
   EquilibriumReport report;  // at the last check
 };
 
-// Called after every check with the exported state and its report (progress, records).
+// Called after every check with the exported state and its report (progress, records); returns
+// false to abort the run (e.g. a strain guard: the sample flows, no equilibrium will come).
 using EquilibrationObserver =
-    std::function<void(const Engine&, const Configuration&, const EquilibriumReport&)>;
+    std::function<bool(const Engine&, const Configuration&, const EquilibriumReport&)>;
 
 // Checks first (a state already in equilibrium costs no step), then steps in chunks of
 // check_interval. `state` receives the exported configuration of the last check (its storage is
