@@ -46,7 +46,8 @@ struct RigidLimitResult {
   // Collapse mechanism (the LP's dual solution), empty unless bounded: per disk displacement
   // rates (mechanism_ux, mechanism_uy) and rotation rates (mechanism_theta), cell extension
   // rates (mechanism_e, L_a -> L_a (1 + e_a); with walls, wall displacement / L_a), normalised to
-  // e_2 = -1 (unit axial compression rate). It is kinematically admissible for associated flow:
+  // e_2 = -1 (unit axial compression rate; should Ipopt return a degenerate dual with e_2 >= 0,
+  // the raw multipliers are left as they are). It is kinematically admissible for associated flow:
   // at every network contact the opening rate g_N and slip rate g_T obey g_N >= mu |g_T|.
   // Disks without a balance row (rattlers, removed disks) and undetermined components (a pinned
   // translation, rotations of frictionless disks) are reported as 0.
