@@ -10,6 +10,7 @@ namespace granstab::cli {
 
 void add_version_command(CLI::App& app);
 void add_info_command(CLI::App& app);
+void add_q1_command(CLI::App& app);
 void add_prepare_command(CLI::App& app);
 
 }  // namespace granstab::cli

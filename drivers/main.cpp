@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   granstab::cli::add_version_command(app);
   granstab::cli::add_info_command(app);
+  granstab::cli::add_q1_command(app);
   granstab::cli::add_prepare_command(app);
   try {
     app.parse(argc, argv);

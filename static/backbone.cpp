@@ -75,18 +75,12 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
   // Rotation graph over sticking frictional force-carrying contacts; ratio[i] = theta_i of the
   // cluster's gear mode relative to its root.
   std::vector<std::vector<std::pair<int, double>>> adjacent(n);  // partner, theta_j / theta_i
-  std::vector<char> blocked(n, 0), touched_by_slip(n, 0), frictional(n, 0);
+  std::vector<char> blocked(n, 0);
   for (std::size_t c = 0; c < states.size(); ++c) {
     const ContactState& s = states[c];
     if (statuses[c] == ContactStatus::open || !s.frictional || s.f_n <= 0.0) continue;
     const int i = net.contacts.i[c], j = net.contacts.j[c];
-    frictional[i] = 1;
-    if (!s.wall) frictional[j] = 1;
-    if (statuses[c] != ContactStatus::stick) {
-      touched_by_slip[i] = 1;
-      if (!s.wall) touched_by_slip[j] = 1;
-      continue;
-    }
+    if (statuses[c] != ContactStatus::stick) continue;  // slip leaves theta free
     // A sticking wall contact or a self-image contact (2 a theta = 0) forbids the gear mode.
     if (s.wall || i == j || m.theta[j] < 0) {
       blocked[i] = 1;
@@ -114,7 +108,7 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
       const int i = stack.back();
       stack.pop_back();
       cluster.push_back(i);
-      free = free && !blocked[i] && !touched_by_slip[i];
+      free = free && !blocked[i];
       for (const auto& [j, r] : adjacent[i]) {
         const double expected = ratio[i] * r;
         if (!seen[j]) {
@@ -126,8 +120,7 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
         }
       }
     }
-    // A lone disk whose contacts are all sliding keeps its rotation: see the header.
-    if (free && (cluster.size() > 1 || !frictional[root])) keep[m.theta[root]] = 0;
+    if (free) keep[m.theta[root]] = 0;
   }
   return keep;
 }

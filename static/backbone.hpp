@@ -16,10 +16,11 @@ std::vector<char> force_carrying_disks(const Network& net, const std::vector<Con
 void rebuild_degrees_of_freedom(Network& net);
 
 // Gear modes (§S3.5): rotations theta only, with a_i theta_i + a_j theta_j = 0 on every sticking
-// frictional contact. They change no force (B_N v = 0, t.D v = 0 by construction), so one rotation
-// per free cluster is pinned. A cluster touched by a sliding contact is left alone: there the
-// torque rows are constraints, and a zero column means the statuses admit no solution.
-// Returns, per dof of q, 1 when the dof is kept.
+// frictional contact (a lone disk whose contacts all slide or are frictionless is a cluster of
+// one). They change no force (B_N v = 0, t.D v = 0 by construction), so one rotation per free
+// cluster is pinned. The pinned torque row is then implied by the others only if the sliding
+// forces do no net work in the gear mode; the solvers check it on the full system (a violation
+// means the statuses admit no solution). Returns, per dof of q, 1 when the dof is kept.
 std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>& states,
                             const std::vector<ContactStatus>& statuses);
 

@@ -20,12 +20,23 @@ double seconds_since(Clock::time_point t0) {
 }
 
 // Solves K dq = b on the kept dofs (pinned dofs stay 0); false if K is singular there.
+// With check_pinned, the rows of pinned gear rotations must hold too (see kept_dofs): the
+// predictor's test of a status set. The corrector's backtracking on |R| judges its steps itself.
 bool solve_kept(const SparseMatrix& k, const std::vector<char>& kept, const Eigen::VectorXd& b,
-                LuFactor& lu, Eigen::VectorXd& x, Timings* timings) {
+                LuFactor& lu, Eigen::VectorXd& x, Timings* timings, bool check_pinned) {
   const auto t0 = Clock::now();
   const Reduction r = make_reduction(kept);
-  const bool ok = lu.factorize(reduce(k, r));
-  if (ok) x = expand(lu.solve(reduce(b, r)), r, static_cast<int>(k.rows()));
+  bool ok = lu.factorize(reduce(k, r));
+  if (ok) {
+    x = expand(lu.solve(reduce(b, r)), r, static_cast<int>(k.rows()));
+    if (check_pinned && static_cast<Eigen::Index>(r.reduced_to_full.size()) < k.rows()) {
+      const Eigen::VectorXd misfit = k * x - b;
+      double worst = 0.0;
+      for (std::size_t i = 0; i < kept.size(); ++i)
+        if (!kept[i]) worst = std::max(worst, std::abs(misfit[i]));
+      ok = worst <= 1e-8 * std::max(b.cwiseAbs().maxCoeff(), 1e-300);
+    }
+  }
   if (timings) timings->factorisation += seconds_since(t0);
   return ok;
 }
@@ -87,7 +98,7 @@ NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
     const std::vector<char> kept = kept_dofs(net, states, statuses);
     if (timings) timings->assembly += seconds_since(t0);
     Eigen::VectorXd step;
-    if (!solve_kept(k, kept, r, lu, step, timings)) break;
+    if (!solve_kept(k, kept, r, lu, step, timings, false)) break;
     // Backtracking on |R|: the law has kinks (Coulomb return, opening) that a full step may cross.
     double alpha = 1.0;
     bool decreased = false;
@@ -141,6 +152,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
   const Eigen::VectorXd r0 = rhs ? *rhs : residual(net, zero, states);
   p.statuses = classify_contacts(states);
+  p.ever_sliding.assign(states.size(), 0);
   const double k_n = net.material.k_n, k_t = net.material.k_t;
   std::unordered_set<std::string> seen;
   LuFactor lu;
@@ -156,7 +168,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
     p.tangent = assemble_tangent(net, states, p.statuses);
     p.kept = kept_dofs(net, states, p.statuses);
     if (timings) timings->assembly += seconds_since(t0);
-    if (!solve_kept(p.tangent, p.kept, r0, lu, p.dq, timings)) {
+    if (!solve_kept(p.tangent, p.kept, r0, lu, p.dq, timings, true)) {
       p.failure = "singular";
       break;
     }
@@ -193,6 +205,9 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
         consistent = false;
         p.statuses[c] = next;
       }
+      if (s.frictional && (next == ContactStatus::slide_positive ||
+                           next == ContactStatus::slide_negative))
+        p.ever_sliding[c] = 1;
     }
     if (consistent) {
       p.ok = true;

@@ -58,6 +58,7 @@ struct PredictorResult {
   int iterations = 0;
   SparseMatrix tangent;                 // K(statuses) on all dofs
   std::vector<char> kept;               // dofs kept (floppy rotations pinned)
+  std::vector<char> ever_sliding;       // per contact: sliding in some iterate of the loop
 };
 
 // Piecewise-linear complementarity problem at the start of the step, by iterating statuses and

@@ -21,10 +21,12 @@ const char* criterion_name(Criterion c) {
 
 namespace {
 
+// On the cone to round-off (SPEC §1.1): at a converged state the trial force of a sliding
+// contact sits exactly on the cone, so its evaluated status alone would say stick.
 int count_sliding(const std::vector<ContactState>& states) {
   int n = 0;
   for (const ContactState& s : states)
-    if (s.frictional && s.f_n > 0.0 && s.status != ContactStatus::stick) ++n;
+    if (s.frictional && s.f_n > 0.0 && is_sliding(s.f_t, s.f_n, s.mu)) ++n;
   return n;
 }
 
@@ -84,17 +86,16 @@ Eigen::VectorXd softest_mode(const PredictorResult& p) {
   return expand(v, r, static_cast<int>(p.tangent.rows()));
 }
 
-// The sliding contacts at q1 are those the failed attempt beyond the bracket made slide (its
-// consistent or last-tried statuses), which at the last stable state sit on or next to the cone.
+// The sliding contacts at q1: sliding at the last stable state, or made to slide in some iterate
+// of the failed attempt beyond the bracket (which starts from that state).
 void record_instability(StabilityResult& result, const Network& net, const PredictorResult& p,
-                        const std::vector<ContactStatus>& beyond) {
+                        const std::vector<char>& beyond) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
   for (std::size_t c = 0; c < states.size(); ++c) {
     const ContactState& s = states[c];
     if (!s.frictional || s.f_n <= 0.0) continue;
-    const bool slides_beyond = c < beyond.size() && (beyond[c] == ContactStatus::slide_positive ||
-                                                      beyond[c] == ContactStatus::slide_negative);
+    const bool slides_beyond = c < beyond.size() && beyond[c];
     if (!slides_beyond && !is_sliding(s.f_t, s.f_n, s.mu)) continue;
     result.sliding_at_q1.push_back({net.contacts.i[c], net.contacts.j[c], net.contacts.k1[c],
                                     net.contacts.k2[c], s.f_n, s.f_t});
@@ -139,20 +140,20 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     result.q1_bracket = {lambda, lambda};
     result.criterion = failure;
     result.detail = detail;
-    record_instability(result, net, check, check.statuses);
+    record_instability(result, net, check, check.ever_sliding);
     result.network_at_q1 = net;
     return result;
   }
   PredictorResult last_check = check;
 
   int successes_since_cut = 0;
-  std::vector<ContactStatus> beyond;  // statuses of the latest failed attempt
+  std::vector<char> beyond;  // contacts the latest failed attempt made slide
   while (result.steps < options.max_steps && lambda < options.load_stop) {
     Network trial = net;
     path(trial, lambda + step);
     const StepResult s = load_step(trial, options.solver, &result.timings);
     bool accepted = false;
-    beyond = s.predictor.statuses;
+    beyond = s.predictor.ever_sliding;
     if (s.ok) {
       rebuild_degrees_of_freedom(trial);
       check = check_state(trial, lambda + step, step, path, options.solver, &result.timings);
@@ -188,6 +189,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       }
       continue;
     }
+    ++result.rejected[detail];
     // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
     if (step * 0.5 < options.dq_min) {
       result.q1 = lambda;

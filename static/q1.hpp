@@ -5,6 +5,7 @@
 #include <array>
 #include <functional>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,7 @@ struct StabilityResult {
   Network network_at_q1;
   Timings timings;
   int steps = 0;
+  std::map<std::string, int> rejected;  // attempts cut by step control, by reason
 };
 
 // Moves the loads of net to the value lambda of the load parameter.

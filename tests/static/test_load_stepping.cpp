@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <Eigen/LU>
+
 #include "networks.hpp"
 #include "static/load_step.hpp"
 #include "static/q1.hpp"
@@ -70,7 +72,7 @@ TEST(KappaScaling, LatticeStrainsAndQ1Converge) {
     const StabilityResult r = lattice_run(kappa, Control::stress, 0.05, INFINITY);
     EXPECT_EQ(r.criterion, Criterion::existence) << r.detail;
     EXPECT_LT(r.q1_bracket[1] - r.q1_bracket[0], 2.1e-6);
-    EXPECT_EQ(r.sliding_at_q1.size(), 4u);  // the inclined contacts
+    EXPECT_EQ(r.sliding_at_q1.size(), 4u) << r.detail;  // the inclined contacts
     q1_error.push_back(std::abs(r.q1 - rigid));
     ASSERT_GT(r.curve.size(), 40u);
     EXPECT_NEAR(r.curve[40].q, 2.0, 1e-9);
@@ -83,6 +85,52 @@ TEST(KappaScaling, LatticeStrainsAndQ1Converge) {
   EXPECT_LT(q1_error[2], 0.2 * q1_error[1]);
   EXPECT_LT(q1_error[2], 2e-3);
   EXPECT_LT(std::abs(kappa_eps2[2] - kappa_eps2[1]), 0.2 * std::abs(kappa_eps2[1] - kappa_eps2[0]));
+}
+
+// Same lattice with K_T = K_N and mu = 0.5: the inclined contacts reach the cone while the
+// horizontal ones still carry force, at the q of the linear elastic solution (below); sliding
+// then hardens (the plastic multipliers stay positive) until the horizontal contacts lose their
+// force at the rigid-limit q of lattice_rigid_q1, where sliding becomes a mechanism.
+double lattice_sliding_onset(double kt_over_kn, double mu) {
+  // Unknowns (e1, e2, q) at P = K_N = d = 1: sigma1 = 1, sigma2 = 1 + q, F_T = mu F_N on the
+  // inclined contacts, F_h = F0 - e1, F_N = F0 - (e1 + 3 e2)/4, F_T = -(sqrt(3)/4) K_T (e2 - e1).
+  const double s3 = std::sqrt(3.0), f0 = 1.0 / s3, b = kt_over_kn * s3 / 4.0;
+  Eigen::Matrix3d m;
+  m << -2.25 - s3 * b, -0.75 + s3 * b, 0.0,  //
+      -0.75 + s3 * b, -2.25 - s3 * b, -s3,   //
+      b + 0.25 * mu, -b + 0.75 * mu, 0.0;
+  const Eigen::Vector3d rhs(s3 - 3.0 * f0, s3 - 3.0 * f0, mu * f0);
+  return m.fullPivLu().solve(rhs)[2];
+}
+
+TEST(KappaScaling, LatticeHardensBySlidingUpToTheRigidLimit) {
+  const double onset = lattice_sliding_onset(1.0, 0.5), rigid = lattice_rigid_q1(0.5);
+  std::vector<double> q1_error;
+  for (double kappa : {1e3, 1e4, 1e5}) {
+    const Network net = testing::triangular_lattice(0.5, kappa, kappa, 0.5, 1.0);
+    Q1Options o;
+    o.dq = 0.1;
+    o.dq_min = 1e-6;
+    const StabilityResult r = find_q1(testing::configuration_from_network(net), o);
+    EXPECT_EQ(r.criterion, Criterion::existence) << r.detail;
+    double first_sliding = NAN;
+    for (const CurvePoint& p : r.curve) {
+      EXPECT_EQ(p.determinant_sign, 1);
+      EXPECT_GT(p.hill, 0.0);
+      if (p.n_sliding > 0 && std::isnan(first_sliding)) first_sliding = p.q;
+      if (!std::isnan(first_sliding)) {
+        EXPECT_EQ(p.n_sliding, 4) << p.q;
+      }
+    }
+    std::printf("kappa %.0e: sliding from q = %.2f (onset %.4f), q1 = %.6f (rigid limit %.6f)\n",
+                kappa, first_sliding, onset, r.q1, rigid);
+    EXPECT_NEAR(first_sliding, onset, 0.25 + 300.0 / kappa);  // a step of 0.1 + O(1/kappa)
+    EXPECT_EQ(r.sliding_at_q1.size(), 4u);
+    q1_error.push_back(std::abs(r.q1 - rigid));
+  }
+  EXPECT_LT(q1_error[1], 0.2 * q1_error[0]);
+  EXPECT_LT(q1_error[2], 0.2 * q1_error[1]);
+  EXPECT_LT(q1_error[2], 0.1);
 }
 
 double interpolate_q(const std::vector<CurvePoint>& curve, double eps2) {

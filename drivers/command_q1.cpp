@@ -1,0 +1,166 @@
+// granstab q1 SAMPLE: static stepping of the biaxial test from the sample's equilibrium state up
+// to the loss of stability of its contact network (SPEC §4, STATIC.md §S3). The stepping, the
+// criteria and the bracketing live in static/q1.hpp; this file parses, calls and writes.
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "commands.hpp"
+#include "common/atomic_file.hpp"
+#include "common/io/configuration_file.hpp"
+#include "static/q1.hpp"
+#include "static/rigid_limit.hpp"
+
+namespace granstab::cli {
+namespace {
+
+struct Q1CommandOptions {
+  std::string sample;
+  std::string out = ".";
+  std::string control = "stress";
+  statics::Q1Options q1;
+};
+
+// JSON numbers: shortest round-trip form; JSON has no inf/nan, so those become null.
+std::string json(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    if (static_cast<unsigned char>(ch) >= 0x20) out += ch;
+  }
+  return out + "\"";
+}
+
+std::string curve_csv(const statics::StabilityResult& r) {
+  std::ostringstream s;
+  s << "step,load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,hill,det_sign,newton_iterations,"
+       "new_contacts\n";
+  for (std::size_t k = 0; k < r.curve.size(); ++k) {
+    const statics::CurvePoint& p = r.curve[k];
+    s << k << ',' << json(p.load) << ',' << json(p.q) << ',' << json(p.eps1) << ','
+      << json(p.eps2) << ',' << json(p.epsv) << ',' << p.n_sliding << ',' << json(p.hill) << ','
+      << p.determinant_sign << ',' << p.newton_iterations << ',' << p.new_contacts << '\n';
+  }
+  return s.str();
+}
+
+// The unstable mode at q1, one row per disk (rattlers and pinned components are 0), then the cell.
+std::string mode_csv(const statics::StabilityResult& r) {
+  std::ostringstream s;
+  s << "disk,x,y,ux,uy,theta\n";
+  const statics::Network& n = r.network_at_q1;
+  for (std::size_t i = 0; 3 * i + 2 < r.mode.size() && i < n.n_disks(); ++i)
+    s << i << ',' << json(n.x[i]) << ',' << json(n.y[i]) << ',' << json(r.mode[3 * i]) << ','
+      << json(r.mode[3 * i + 1]) << ',' << json(r.mode[3 * i + 2]) << '\n';
+  s << "e1," << json(r.mode_cell[0]) << ",,,,\ne2," << json(r.mode_cell[1]) << ",,,,\n";
+  return s.str();
+}
+
+std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
+                    const statics::StabilityResult& r, const statics::RigidLimitResult& rigid,
+                    double seconds) {
+  std::ostringstream s;
+  s << "{\n"
+    << "  \"sample\": " << json_string(o.sample) << ",\n"
+    << "  \"control\": " << json_string(o.control) << ",\n"
+    << "  \"q1\": " << json(r.q1) << ",\n"
+    << "  \"q1_bracket\": [" << json(r.q1_bracket[0]) << ", " << json(r.q1_bracket[1]) << "],\n"
+    << "  \"criterion\": " << json_string(statics::criterion_name(r.criterion)) << ",\n"
+    << "  \"detail\": " << json_string(r.detail) << ",\n"
+    << "  \"n_sliding_at_q1\": " << r.sliding_at_q1.size() << ",\n"
+    << "  \"sliding_contacts_at_q1\": [";
+  for (std::size_t c = 0; c < r.sliding_at_q1.size(); ++c) {
+    const statics::SlidingContact& k = r.sliding_at_q1[c];
+    s << (c ? ", " : "") << "{\"i\": " << k.i << ", \"j\": " << k.j << ", \"k\": [" << k.k1
+      << ", " << k.k2 << "], \"f_n\": " << json(k.f_n) << ", \"f_t\": " << json(k.f_t) << "}";
+  }
+  s << "],\n"
+    // q_max of the frozen initial network (SPEC §4.5); null when unbounded or failed, see status.
+    << "  \"q_max_rigid\": " << json(rigid.q_max) << ",\n"
+    << "  \"q_max_rigid_status\": " << json_string(rigid.status) << ",\n"
+    << "  \"n_disks\": " << config.disks.size() << ",\n"
+    << "  \"n_contacts\": " << config.contacts.size() << ",\n"
+    << "  \"steps\": " << r.steps << ",\n"
+    << "  \"rejected_steps\": {" << [&] {
+         std::string list;
+         for (const auto& [reason, count] : r.rejected)
+           list += (list.empty() ? "" : ", ") + json_string(reason) + ": " + std::to_string(count);
+         return list;
+       }() << "},\n"
+    << "  \"dq\": " << json(o.q1.dq) << ",\n"
+    << "  \"dq_min\": " << json(o.q1.dq_min) << ",\n"
+    << "  \"seconds_assembly\": " << json(r.timings.assembly) << ",\n"
+    << "  \"seconds_factorisation\": " << json(r.timings.factorisation) << ",\n"
+    << "  \"seconds_complementarity\": " << json(r.timings.complementarity) << ",\n"
+    << "  \"seconds_corrector\": " << json(r.timings.corrector) << ",\n"
+    << "  \"wall_seconds\": " << json(seconds) << "\n"
+    << "}\n";
+  return s.str();
+}
+
+void run_q1(Q1CommandOptions o) {
+  const auto start = std::chrono::steady_clock::now();
+  const Configuration config = read_configuration(o.sample);
+  o.q1.control = o.control == "strain" ? statics::Control::strain : statics::Control::stress;
+  const statics::StabilityResult r = statics::find_q1(config, o.q1);
+  const statics::RigidLimitResult rigid = statics::rigid_limit(config);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::filesystem::path dir = o.out;
+  std::filesystem::create_directories(dir);
+  write_file_atomically(dir / "static_curve.csv", curve_csv(r));
+  write_file_atomically(dir / "unstable_mode.csv", mode_csv(r));
+  write_file_atomically(dir / "q1.json", q1_json(o, config, r, rigid, seconds));
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "q1 = %.9g in [%.9g, %.9g] (%s), %zu sliding, %d steps, q_max_rigid = %.9g (%s), "
+                "%.3g s\n",
+                r.q1, r.q1_bracket[0], r.q1_bracket[1], statics::criterion_name(r.criterion),
+                r.sliding_at_q1.size(), r.steps, rigid.q_max, rigid.status.c_str(), seconds);
+  std::cout << line << std::flush;
+}
+
+}  // namespace
+
+void add_q1_command(CLI::App& app) {
+  auto options = std::make_shared<Q1CommandOptions>();
+  auto* cmd = app.add_subcommand(
+      "q1", "Static stepping (SPEC §4) of the biaxial test from a sample's equilibrium up to the "
+            "loss of stability q1; writes DIR/static_curve.csv, DIR/q1.json, DIR/unstable_mode.csv");
+  cmd->add_option("SAMPLE", options->sample, "configuration file (docs/file-format.md)")->required();
+  cmd->add_option("--dq", options->q1.dq,
+                  "load step: delta q (stress control) or delta epsilon_2 (strain control)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--dq-min", options->q1.dq_min, "step floor, the bracket tolerance of q1")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--out", options->out, "output directory")->capture_default_str();
+  cmd->add_option("--control", options->control, "stress (q raised) or strain (epsilon_2 raised)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"stress", "strain"}));
+  cmd->add_option("--max-steps", options->q1.max_steps, "stop after this many accepted steps")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--stop", options->q1.load_stop,
+                  "stop once the load parameter (q, or epsilon_2) passes this value");
+  cmd->add_flag("!--no-hill", options->q1.hill, "skip the Hill indicator (smallest eigenvalue "
+                                                 "of the symmetric part) at every state");
+  cmd->callback([options] { run_q1(*options); });
+}
+
+}  // namespace granstab::cli
