@@ -541,7 +541,7 @@ void fill_mechanism(const Configuration& config, const LinearProgram& lp,
 // Largest violation of the balance rows by the returned forces, recomputed from the
 // configuration (not from the LP matrix) so that it also checks the assembly.
 double balance_residual(const Configuration& config, const FrozenNetwork& net,
-                        const RigidLimitResult& r, double sigma1, double sigma2) {
+                        const RigidLimitResult& r, double a, double sigma1, double sigma2) {
   const Contacts& c = config.contacts;
   const Cell& cell = config.cell;
   const std::size_t n = config.disks.size();
@@ -568,11 +568,14 @@ double balance_residual(const Configuration& config, const FrozenNetwork& net,
       stress2 += cell.length[1] * gy;
     }
   }
+  // Units: a sigma_1 for forces, a^2 sigma_1 for torques and the A sigma rows.
+  const double force_unit = a * sigma1, moment_unit = a * a * sigma1;
   double worst = std::max(std::abs(stress1 - cell.area() * sigma1),
-                          std::abs(stress2 - cell.area() * sigma2));
+                          std::abs(stress2 - cell.area() * sigma2)) / moment_unit;
   for (std::size_t i = 0; i < n; ++i) {
     if (!net.disk_active[i]) continue;
-    worst = std::max({worst, std::abs(fx[i]), std::abs(fy[i]), std::abs(torque[i])});
+    worst = std::max({worst, std::abs(fx[i]) / force_unit, std::abs(fy[i]) / force_unit,
+                      std::abs(torque[i]) / moment_unit});
   }
   return worst;
 }
@@ -637,8 +640,17 @@ RigidLimitResult rigid_limit(const Configuration& config, const RigidLimitOption
   // Rescale the normalised forces (units of a P, sigma_1 = s1_min P) to sigma_1 = options.sigma1.
   fill_forces(config, lp, net, lowest.tnlp->x, lp.length_unit * options.sigma1 / s1_min, result);
   fill_mechanism(config, lp, lowest.tnlp->multipliers, result);
-  result.max_residual = balance_residual(config, net, result, options.sigma1,
+  result.max_residual = balance_residual(config, net, result, lp.length_unit, options.sigma1,
                                          options.sigma1 * (1.0 + result.q_max));
+  if (!(result.max_residual <= options.residual_limit)) {
+    RigidLimitResult bad = failure(result, "inaccurate: balance residual " +
+                                               std::to_string(result.max_residual) +
+                                               " exceeds residual_limit");
+    for (auto* v : {&bad.f_n, &bad.f_t, &bad.mechanism_ux, &bad.mechanism_uy,
+                    &bad.mechanism_theta, &bad.mechanism_e})
+      v->clear();
+    return bad;
+  }
   return result;
 }
 

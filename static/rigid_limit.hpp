@@ -25,6 +25,10 @@ struct RigidLimitOptions {
   // q_max = 2 / s1_min - 2; when s1_min falls below this threshold q_max is reported as +inf
   // (any q_max > 2 / threshold is indistinguishable from unbounded at the solver's accuracy).
   double unbounded_threshold = 1e-8;
+  // Returned forces are re-checked against every balance row, recomputed from the configuration;
+  // a larger violation (units of a sigma_1 for forces, a^2 sigma_1 for torques and A sigma rows)
+  // is reported as a failure ("inaccurate: ...") rather than as a number.
+  double residual_limit = 1e-7;
 };
 
 struct RigidLimitResult {
@@ -55,7 +59,8 @@ struct RigidLimitResult {
   std::vector<double> mechanism_e;
 
   // Size of the LP actually solved, and the largest violation of force, torque and stress
-  // balance by the returned forces (units of a P, or a^2 P for torques and A sigma rows).
+  // balance by the returned forces (units of a sigma_1, or a^2 sigma_1 for torques and A sigma
+  // rows; a = largest diameter).
   std::size_t n_disks = 0;     // disks with balance rows
   std::size_t n_contacts = 0;  // network contacts that entered the LP
   int iterations = 0;          // Ipopt iterations, summed over the solves

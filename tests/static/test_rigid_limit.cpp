@@ -339,6 +339,14 @@ TEST(RigidLimit, DisorderedNetworkIsCertifiedOptimal) {
     twice.sigma1 = 2.0;
     const RigidLimitResult r2 = rigid_limit(c, twice);
     EXPECT_NEAR(r2.q_max, r.q_max, 1e-7 * (1.0 + r.q_max));
+    // The residual guard turns an inaccurate answer into a reported failure.
+    RigidLimitOptions strict;
+    strict.residual_limit = 0.1 * r.max_residual;
+    ASSERT_GT(r.max_residual, 0.0);
+    const RigidLimitResult r3 = rigid_limit(c, strict);
+    EXPECT_FALSE(r3.solved);
+    EXPECT_TRUE(std::isnan(r3.q_max));
+    EXPECT_EQ(r3.status.rfind("inaccurate", 0), 0u) << r3.status;
   }
 }
 
