@@ -16,3 +16,15 @@ granstab_add_test(test_stability_thresholds
 granstab_add_test(test_load_stepping
   SOURCES test_load_stepping.cpp
   LIBS granstab_static_testing)
+granstab_add_test(test_hill_and_samples
+  SOURCES test_hill_and_samples.cpp
+  LIBS granstab_static)
+target_compile_definitions(test_hill_and_samples PRIVATE
+  GRANSTAB_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/data/samples")
+granstab_add_test(test_q1_command
+  SOURCES test_q1_command.cpp
+  LIBS)
+add_dependencies(test_q1_command granstab)
+target_compile_definitions(test_q1_command PRIVATE
+  GRANSTAB_EXE="$<TARGET_FILE:granstab>"
+  GRANSTAB_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/data/samples")
