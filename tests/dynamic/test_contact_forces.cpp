@@ -160,3 +160,30 @@ TEST(PeriodicImages, PairAcrossBoundariesEqualsPairInside) {
 
 }  // namespace
 }  // namespace granstab
+
+namespace granstab {
+namespace {
+
+TEST(ExternalForces, ConstantForceGivesUniformAcceleration) {
+  Configuration c = testing::empty_periodic(20.0, 20.0, Material::from_kappa(1e4, 1.0, 0.5, 1.0));
+  c.disks.add(5.0, 5.0, 0.5);
+  c.disks.add(15.0, 15.0, 0.25);
+  Engine e(c);
+  const std::vector<double> fx{0.3, -0.1}, fy{0.0, 0.2};
+  e.set_external_forces(fx, fy);
+  EXPECT_DOUBLE_EQ(e.force_x(0), 0.3);
+  e.run(1000);
+  const double t = e.time();
+  for (int i = 0; i < 2; ++i) {
+    // Velocity Verlet is exact for a constant force.
+    EXPECT_NEAR(e.vx()[i], fx[i] / c.disks.mass[i] * t, 1e-12);
+    EXPECT_NEAR(e.vy()[i], fy[i] / c.disks.mass[i] * t, 1e-12);
+  }
+  EXPECT_NEAR(e.x()[1], 15.0 + 0.5 * fx[1] / c.disks.mass[1] * t * t, 1e-10);
+  e.clear_external_forces();
+  EXPECT_EQ(e.force_x(0), 0.0);
+  EXPECT_THROW(e.set_external_forces(std::vector<double>{1.0}, fy), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace granstab
