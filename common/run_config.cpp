@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <set>
@@ -47,6 +48,125 @@ std::string trim(std::string_view s) {
   if (first == std::string_view::npos) return {};
   const auto last = s.find_last_not_of(" \t");
   return std::string(s.substr(first, last - first + 1));
+}
+
+// toml++ 3.3.0 (Debian 12) reaches __builtin_unreachable, i.e. undefined behaviour, when its
+// whitespace test sees a code point in these ranges (marzer/tomlplusplus#190 and #295, fixed
+// upstream by PR #305). Found by tests/fuzz (docs/reliability.md). It tests every character of a
+// key, the characters that follow a token, and what follows a backslash in a multi-line basic
+// string; string values and comments are safe.
+bool trips_toml_whitespace_bug(char32_t c) {
+  return (c >= 0xA1 && c <= 0x499) || (c >= 0x2C5E && c <= 0x2FFF) ||
+         (c >= 0x3001 && c <= 0x3057) || (c >= 0xFB26 && c <= 0xFEFE);
+}
+
+bool is_toml_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+// Rejects, with "SOURCE:LINE:COLUMN: message", a character that would reach the bug above. A
+// light TOML scanner: it tracks comments, the four kinds of strings and brackets, and treats a
+// string as a value only after '=' or inside an array; anything it is unsure of counts as a key.
+void reject_toml_whitespace_bug(std::string_view text, const std::string& source) {
+  enum class State { normal, comment, basic, literal, ml_basic, ml_literal };
+  State state = State::normal;
+  bool value_string = false;
+  std::vector<char> brackets;  // 'h' table header, 'a' array value, 't' inline table
+  char previous = '\n';        // last significant character outside strings and comments
+  std::size_t i = 0;
+  auto at_value = [&] {
+    const bool in_array = !brackets.empty() && brackets.back() == 'a';
+    return previous == '=' || (in_array && (previous == '[' || previous == ','));
+  };
+  // The code point starting at i (lenient: malformed UTF-8 is toml++'s to report).
+  auto code_point = [&](std::size_t k) -> char32_t {
+    const auto b = static_cast<unsigned char>(text[k]);
+    const int n = b >= 0xF0 ? 3 : b >= 0xE0 ? 2 : b >= 0xC0 ? 1 : 0;
+    char32_t c = n == 0 ? b : b & (0x3F >> n);
+    for (int m = 1; m <= n && k + m < text.size(); ++m)
+      c = (c << 6) | (static_cast<unsigned char>(text[k + m]) & 0x3F);
+    return c;
+  };
+  auto check = [&](std::size_t k) {
+    if (k >= text.size() || (static_cast<unsigned char>(text[k]) & 0xC0) == 0x80) return;
+    const char32_t c = code_point(k);
+    if (!trips_toml_whitespace_bug(c)) return;
+    // The place, counted as toml++ does: lines from 1, columns in code points from 1.
+    const std::string_view before = text.substr(0, k);
+    const std::size_t line_start = before.rfind('\n') + 1;  // npos + 1 == 0
+    const auto line = 1 + std::count(before.begin(), before.end(), '\n');
+    const auto column = 1 + std::count_if(before.begin() + line_start, before.end(), [](char b) {
+                          return (static_cast<unsigned char>(b) & 0xC0) != 0x80;
+                        });
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "U+%04X", static_cast<unsigned>(c));
+    throw std::runtime_error(source + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                             ": the character " + hex +
+                             " is only supported in string values and comments here (a bug of "
+                             "the TOML library, toml++ 3.3)");
+  };
+  auto starts = [&](std::string_view s) { return text.substr(i).starts_with(s); };
+  while (i < text.size()) {
+    const char ch = text[i];
+    if (ch == '\n') {
+      if (state == State::comment) state = State::normal;
+      if (state == State::normal && (brackets.empty() || brackets.back() != 'a')) previous = '\n';
+      ++i;
+      continue;
+    }
+    switch (state) {
+      case State::comment:
+        break;
+      case State::normal:
+        if (ch == '#') {
+          state = State::comment;
+        } else if (ch == '"' || ch == '\'') {
+          value_string = at_value();
+          const bool multi_line = starts(ch == '"' ? "\"\"\"" : "'''");
+          state = ch == '"' ? (multi_line ? State::ml_basic : State::basic)
+                            : (multi_line ? State::ml_literal : State::literal);
+          if (multi_line) i += 2;
+        } else if (ch == '[' || ch == '{') {
+          brackets.push_back(ch == '{' ? 't' : at_value() ? 'a' : 'h');
+          previous = ch;
+        } else if (ch == ']' || ch == '}') {
+          if (!brackets.empty()) brackets.pop_back();
+          previous = ch;
+        } else if (ch != ' ' && ch != '\t' && ch != '\r') {
+          check(i);
+          previous = ch;
+        }
+        break;
+      case State::basic:
+      case State::ml_basic:
+        if (ch == '\\') {
+          const std::size_t escaped = ++i;
+          if (state == State::ml_basic)  // a line-ending backslash trims the whitespace after it
+            while (i < text.size() && is_toml_blank(text[i])) ++i;
+          check(i);
+          if (i == escaped) ++i;  // skips the escaped character, not what follows a line break
+          continue;
+        } else if (ch == '"' && (state == State::basic || starts("\"\"\""))) {
+          if (state == State::ml_basic)
+            for (i += 2; i + 1 < text.size() && text[i + 1] == '"';) ++i;  // quotes ending it
+          state = State::normal;
+          previous = '"';
+        } else if (!value_string) {
+          check(i);
+        }
+        break;
+      case State::literal:
+      case State::ml_literal:
+        if (ch == '\'' && (state == State::literal || starts("'''"))) {
+          if (state == State::ml_literal)
+            for (i += 2; i + 1 < text.size() && text[i + 1] == '\'';) ++i;
+          state = State::normal;
+          previous = '\'';
+        } else if (!value_string) {
+          check(i);
+        }
+        break;
+    }
+    ++i;
+  }
 }
 
 }  // namespace
@@ -96,9 +216,11 @@ struct RunConfig::Impl {
       throw std::invalid_argument("command line: '" + assignment + "': overrides read key=value");
     const std::string text = trim(std::string_view(assignment).substr(eq + 1));
     toml::table parsed;
+    const std::string line = "value = " + text;
     try {
-      parsed = toml::parse("value = " + text, std::string_view{"--set"});
-    } catch (const toml::parse_error&) {
+      reject_toml_whitespace_bug(line, "--set");
+      parsed = toml::parse(line, std::string_view{"--set"});
+    } catch (const std::runtime_error&) {  // toml::parse_error, or a character toml++ trips on
       parsed = toml::table{};
       parsed.insert("value", text);  // not TOML: a bare word stands for a string
     }
@@ -144,6 +266,7 @@ RunConfig RunConfig::from_string(std::string_view toml_text, const std::string& 
   auto impl = std::make_unique<Impl>();
   impl->source = source_name;
   impl->base_dir = base_dir;
+  reject_toml_whitespace_bug(toml_text, source_name);
   try {
     impl->root = toml::parse(toml_text, std::string_view{source_name});
   } catch (const toml::parse_error& e) {
