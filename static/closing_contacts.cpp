@@ -1,10 +1,12 @@
 #include "static/closing_contacts.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <tuple>
 
 #include "common/contact_law.hpp"
+#include "common/pair_search.hpp"
 #include "static/kinematics.hpp"
 
 namespace granstab::statics {
@@ -32,29 +34,47 @@ std::vector<NewContact> closing_contacts(const Network& net, const Eigen::Vector
   cell.boundary = net.boundary;
   cell.length = {l1, l2};
   for (std::size_t i = 0; i < n; ++i) {
-    if (!m.active(i)) continue;
-    if (!periodic) {
-      for (Wall w : {wall_left, wall_right, wall_bottom, wall_top})
-        if (!known.count({static_cast<int>(i), w, 0, 0}) &&
-            disk_wall_frame(x[i], y[i], net.radius[i], w, cell).h > 0.0)
-          found.push_back({static_cast<int>(i), w, 0, 0});
+    if (!m.active(i) || periodic) continue;
+    for (Wall w : {wall_left, wall_right, wall_bottom, wall_top})
+      if (!known.count({static_cast<int>(i), w, 0, 0}) &&
+          disk_wall_frame(x[i], y[i], net.radius[i], w, cell).h > 0.0)
+        found.push_back({static_cast<int>(i), w, 0, 0});
+  }
+  const auto consider = [&](int a, int b, int k1, int k2) {
+    if (!m.active(a) || !m.active(b)) return;
+    const double dx = x[b] + k1 * l1 - x[a], dy = y[b] + k2 * l2 - y[a];
+    const double reach = net.radius[a] + net.radius[b];
+    if (dx * dx + dy * dy < reach * reach && !known.count({a, b, k1, k2}))
+      found.push_back({a, b, k1, k2});
+  };
+  double r_max = 0.0;
+  for (double r : net.radius) r_max = std::max(r_max, r);
+  if (periodic && std::min(l1, l2) <= 4.0 * r_max * (1.0 + 1e-9)) {
+    // Cells too small for the cell list (lattice tests): every pair at its minimum image.
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j)
+        consider(static_cast<int>(i), static_cast<int>(j),
+                 minimum_image_shift(x[j] - x[i], l1), minimum_image_shift(y[j] - y[i], l2));
+    return found;
+  }
+  // The common cell-list search on wrapped positions; image shifts are converted back to the
+  // network's unwrapped coordinates: l = x_j - w_j L + k L - (x_i - w_i L).
+  std::vector<double> xw(x), yw(y);
+  std::vector<int> w1(n, 0), w2(n, 0);
+  if (periodic) {
+    for (std::size_t i = 0; i < n; ++i) {
+      w1[i] = static_cast<int>(std::floor(x[i] / l1));
+      w2[i] = static_cast<int>(std::floor(y[i] / l2));
+      xw[i] = x[i] - w1[i] * l1;
+      yw[i] = y[i] - w2[i] * l2;
     }
-    for (std::size_t j = i + 1; j < n; ++j) {
-      if (!m.active(j)) continue;
-      double dx = x[j] - x[i], dy = y[j] - y[i];
-      int k1 = 0, k2 = 0;
-      if (periodic) {
-        k1 = minimum_image_shift(dx, l1);
-        k2 = minimum_image_shift(dy, l2);
-        dx += k1 * l1;
-        dy += k2 * l2;
-      }
-      const double reach = net.radius[i] + net.radius[j];
-      if (std::abs(dx) >= reach || std::abs(dy) >= reach) continue;
-      if (dx * dx + dy * dy >= reach * reach) continue;
-      const int a = static_cast<int>(i), b = static_cast<int>(j);
-      if (!known.count({a, b, k1, k2})) found.push_back({a, b, k1, k2});
-    }
+  }
+  PairList pairs;
+  PairSearch search;
+  search.find(xw.data(), yw.data(), net.radius.data(), n, cell, 0.0, pairs);
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const int a = pairs.i[p], b = pairs.j[p];
+    consider(a, b, pairs.k1[p] - w1[b] + w1[a], pairs.k2[p] - w2[b] + w2[a]);
   }
   return found;
 }

@@ -1,11 +1,13 @@
 #pragma once
 // One load step of STATIC.md §S3: preparation (§S3.0), predictor with the complementarity loop
 // over contact statuses (§S3.1), Newton corrector on the exact equilibrium (§S3.2).
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "static/linear_solvers.hpp"
 #include "static/tangent.hpp"
 
 namespace granstab::statics {
@@ -59,14 +61,17 @@ struct PredictorResult {
   SparseMatrix tangent;                 // K(statuses) on all dofs
   std::vector<char> kept;               // dofs kept (floppy rotations pinned)
   std::vector<char> ever_sliding;       // per contact: sliding in some iterate of the loop
+  std::shared_ptr<LuFactor> factor;     // LU of K(statuses) on the kept dofs (when ok)
 };
 
 // Piecewise-linear complementarity problem at the start of the step, by iterating statuses and
 // solving the full unsymmetric K with UMFPACK each time; cycles are detected by hashing the
 // status vectors. net carries the loads of the end of the step.
-// With rhs given, it replaces R(0) (the stability check solves for a pure load increment).
+// With rhs given, it replaces R(0) (the stability check solves for a pure load increment); with
+// start given, the loop starts from those statuses (warm start) instead of classify_contacts.
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings = nullptr,
-                        const Eigen::VectorXd* rhs = nullptr);
+                        const Eigen::VectorXd* rhs = nullptr,
+                        const std::vector<ContactStatus>* start = nullptr);
 
 struct StepResult {
   bool ok = false;
@@ -76,8 +81,10 @@ struct StepResult {
   int new_contacts = 0;
 };
 
-// Advances net to the equilibrium under its (new) loads; on failure net is unchanged.
-StepResult load_step(Network& net, const SolverOptions& options, Timings* timings = nullptr);
+// Advances net to the equilibrium under its (new) loads; on failure net is unchanged. start: warm
+// start of the complementarity loop (e.g. the statuses of the stability check of this state).
+StepResult load_step(Network& net, const SolverOptions& options, Timings* timings = nullptr,
+                     const std::vector<ContactStatus>* start = nullptr);
 
 // Moves the start of the step to dq: positions, rotations, cell lengths, tangential states and
 // statuses; open contacts leave the list; imposed extensions are consumed.

@@ -28,3 +28,6 @@ add_dependencies(test_q1_command granstab)
 target_compile_definitions(test_q1_command PRIVATE
   GRANSTAB_EXE="$<TARGET_FILE:granstab>"
   GRANSTAB_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/data/samples")
+granstab_add_test(test_closing_contacts
+  SOURCES test_closing_contacts.cpp
+  LIBS granstab_static)
