@@ -73,13 +73,18 @@ inline double minimum_image(double dx, double length, double half_length) {
   return dx;
 }
 
-void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int i,
-                 BlockSums& sums) {
+// Pairs of the disks [first, end) of block b. Also lists the block's closed pairs (from the
+// start of its pair range) and the pairs that opened during the step (from the end), for the
+// viscous pass.
+void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first,
+                 int end, BlockSums& sums) {
   const Material& mat = *in.material;
   const double half_l1 = 0.5 * in.length[0], half_l2 = 0.5 * in.length[1];
-  const double xi = d.x[i], yi = d.y[i], ri = d.radius[i];
-  for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
-    const int j = pairs.j[p];
+  const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
+  int next_closed = range_begin, next_opened = range_end;
+  for (int p = range_begin; p < range_end; ++p) {
+    const int i = pairs.i[p], j = pairs.j[p];
+    const double xi = d.x[i], yi = d.y[i], ri = d.radius[i];
     double dx = d.x[j] - xi, dy = d.y[j] - yi;
     if (in.periodic) {
       dx = minimum_image(dx, in.length[0], half_l1);
@@ -104,8 +109,10 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
       out = {0.0, 0.0, share * out.fvx, share * out.fvy, 0.0, 0.0};
       pairs.delta_t[p] = 0.0;
       pairs.f_n[p] = pairs.f_t[p] = 0.0;
+      pairs.active[--next_opened] = p;
       continue;
     }
+    pairs.active[next_closed++] = p;
     const ContactFrame f = disk_disk_frame(dx, dy, ri, d.radius[j]);
     const double affine_tx = in.periodic ? in.rate_tangential[0] * dx : 0.0;
     const double affine_ty = in.periodic ? in.rate_tangential[1] * dy : 0.0;
@@ -142,19 +149,22 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
     sums.sigma_viscous[0] += fvx * dx;
     sums.sigma_viscous[1] += fvy * dy;
   }
+  pairs.block_closed[b] = next_closed - range_begin;
+  pairs.block_opened[b] = range_end - next_opened;
 }
 
-// Viscous force only, at the velocities of in (the frame was stored by pair_forces).
-void pair_viscous(const DiskArrays& /*disks*/, PairArrays& pairs, const ForceInputs& in, int i,
-                  BlockSums& sums) {
-  for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
-    PairArrays::Force& out = pairs.force[p];
-    if (!(pairs.f_n[p] > 0.0)) {
-      // Drops the share kept by a contact that opened during the step.
-      if (out.fvx != 0.0 || out.fvy != 0.0) out.fvx = out.fvy = 0.0;
-      continue;
-    }
-    const int j = pairs.j[p];
+// Viscous force only, at the velocities of in, over the closed pairs listed by pair_forces
+// (whose frame it stored); pairs that opened during the step drop their share.
+void pair_viscous(const DiskArrays& /*disks*/, PairArrays& pairs, const ForceInputs& in, int b,
+                  int first, int end, BlockSums& sums) {
+  const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
+  for (int k = range_end - pairs.block_opened[b]; k < range_end; ++k) {
+    PairArrays::Force& out = pairs.force[pairs.active[k]];
+    out.fvx = out.fvy = 0.0;
+  }
+  for (int k = range_begin; k < range_begin + pairs.block_closed[b]; ++k) {
+    const int p = pairs.active[k];
+    const int i = pairs.i[p], j = pairs.j[p];
     const double dx = pairs.lx[p], dy = pairs.ly[p];
     ContactFrame f{};
     f.nx = pairs.nx[p];
@@ -165,6 +175,7 @@ void pair_viscous(const DiskArrays& /*disks*/, PairArrays& pairs, const ForceInp
         deflection_rate(f, in.vx_viscous[j] - in.vx_viscous[i] + affine_vx,
                         in.vy_viscous[j] - in.vy_viscous[i] + affine_vy);
     const double f_v = pairs.alpha[p] * h_rate;  // as contact_force() computes it
+    PairArrays::Force& out = pairs.force[p];
     out.fvx = f_v * f.nx;
     out.fvy = f_v * f.ny;
     sums.sigma_viscous[0] += out.fvx * dx;
@@ -276,6 +287,8 @@ BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
   blocks.resize(2 * static_cast<std::size_t>(nb));
+  pairs.block_closed.resize(nb);
+  pairs.block_opened.resize(nb);
   Cell cell;
   cell.boundary = in.periodic ? Boundary::periodic : Boundary::walls;
   cell.length = in.length;
@@ -285,7 +298,7 @@ BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
     for (int b = 0; b < nb; ++b) {
       BlockSums sums;
       const int end = std::min(n, (b + 1) * block_size);
-      for (int i = b * block_size; i < end; ++i) pair_pass(disks, pairs, in, i, sums);
+      pair_pass(disks, pairs, in, b, b * block_size, end, sums);
       blocks[b] = sums;
     }
 #pragma omp for schedule(static)

@@ -87,6 +87,7 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
   for (std::size_t p = 0; p < m; ++p) {
     pairs.alpha[p] = material.damping_coefficient(disks.mass[pairs.i[p]], disks.mass[pairs.j[p]]);
   }
+  pairs.active.resize(m);
   for (auto* v : {&pairs.nx, &pairs.ny, &pairs.lx, &pairs.ly, &pairs.f_t}) {
     v->assign(m, 0.0);
   }

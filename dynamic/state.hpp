@@ -46,6 +46,9 @@ struct PairArrays {
   };
   std::vector<Force> force;
   std::vector<double> nx, ny, lx, ly, f_n, f_t;
+  // Per reduction block: its closed pairs from the start of its pair range in `active`, the
+  // pairs that opened during the step from the end (written by the force pass).
+  std::vector<std::int32_t> active, block_closed, block_opened;
   std::size_t size() const { return i.size(); }
 };
 
