@@ -1,7 +1,7 @@
 #include "contact_forces.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "common/contact_law.hpp"
 

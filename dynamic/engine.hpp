@@ -65,9 +65,12 @@ class Engine {
   void set_reference_lengths(std::array<double, 2> lengths);
   void set_reference_lengths_to_current() { set_reference_lengths(cell_.length); }
   const Material& material() const { return material_; }
-  void set_material(const Material& material);  // e.g. mu_prep -> mu between stages
+  // E.g. mu_prep -> mu between stages. delta_t is kept (returned to the new Coulomb cone if it
+  // lies outside); a new K_N resets dt to dt_fraction sqrt(m_min / K_N).
+  void set_material(const Material& material);
   void set_cell_mass(std::array<double, 2> mass);
-  // Constant external force on every disk (random perturbation test); sizes must be N.
+  // Constant external force on every disk (random perturbation test); sizes must be N. Not
+  // part of the Configuration: a resumed run sets it again.
   void set_external_forces(std::span<const double> fx, std::span<const double> fy);
   void clear_external_forces();
 
