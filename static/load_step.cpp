@@ -20,23 +20,27 @@ double seconds_since(Clock::time_point t0) {
 }
 
 // Solves K dq = b on the kept dofs (pinned dofs stay 0); false if K is singular there.
-// With check_pinned, the rows of pinned gear rotations must hold too (see kept_dofs): the
-// predictor's test of a status set. The corrector's backtracking on |R| judges its steps itself.
+// Solves K x = b on the kept dofs with a factor of the reduced K. With check_pinned, the rows of
+// pinned gear rotations must hold too (see kept_dofs): the predictor's test of a status set. The
+// corrector's backtracking on |R| judges its steps itself.
+bool solve_factored(const SparseMatrix& k, const std::vector<char>& kept, const LuFactor& lu,
+                    const Eigen::VectorXd& b, Eigen::VectorXd& x, bool check_pinned) {
+  const Reduction r = make_reduction(kept);
+  x = expand(lu.solve(reduce(b, r)), r, static_cast<int>(k.rows()));
+  if (!check_pinned || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
+    return true;
+  const Eigen::VectorXd misfit = k * x - b;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    if (!kept[i]) worst = std::max(worst, std::abs(misfit[i]));
+  return worst <= 1e-8 * std::max(b.cwiseAbs().maxCoeff(), 1e-300);
+}
+
 bool solve_kept(const SparseMatrix& k, const std::vector<char>& kept, const Eigen::VectorXd& b,
                 LuFactor& lu, Eigen::VectorXd& x, Timings* timings, bool check_pinned) {
   const auto t0 = Clock::now();
-  const Reduction r = make_reduction(kept);
-  bool ok = lu.factorize(reduce(k, r));
-  if (ok) {
-    x = expand(lu.solve(reduce(b, r)), r, static_cast<int>(k.rows()));
-    if (check_pinned && static_cast<Eigen::Index>(r.reduced_to_full.size()) < k.rows()) {
-      const Eigen::VectorXd misfit = k * x - b;
-      double worst = 0.0;
-      for (std::size_t i = 0; i < kept.size(); ++i)
-        if (!kept[i]) worst = std::max(worst, std::abs(misfit[i]));
-      ok = worst <= 1e-8 * std::max(b.cwiseAbs().maxCoeff(), 1e-300);
-    }
-  }
+  const bool ok = lu.factorize(reduce(k, make_reduction(kept))) &&
+                  solve_factored(k, kept, lu, b, x, check_pinned);
   if (timings) timings->factorisation += seconds_since(t0);
   return ok;
 }
@@ -145,22 +149,21 @@ std::vector<ContactStatus> classify_contacts(const std::vector<ContactState>& st
 }
 
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings,
-                        const Eigen::VectorXd* rhs, const std::vector<ContactStatus>* start) {
+                        const Eigen::VectorXd* rhs, const PredictorResult* warm) {
   const auto loop_start = Clock::now();
   PredictorResult p;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
   const Eigen::VectorXd r0 = rhs ? *rhs : residual(net, zero, states);
   p.statuses = classify_contacts(states);
-  if (start && start->size() == states.size()) {
+  if (warm && warm->ok && warm->statuses.size() == states.size()) {
     for (std::size_t c = 0; c < states.size(); ++c)
-      if (p.statuses[c] != ContactStatus::open) p.statuses[c] = (*start)[c];
+      if (p.statuses[c] != ContactStatus::open) p.statuses[c] = warm->statuses[c];
   }
   p.ever_sliding.assign(states.size(), 0);
   const double k_n = net.material.k_n, k_t = net.material.k_t;
   std::unordered_set<std::string> seen;
-  auto factor = std::make_shared<LuFactor>();
-  LuFactor& lu = *factor;
+  std::shared_ptr<LuFactor> factor;
   p.failure = "iterations";
   for (int it = 0; it < options.max_status_iterations; ++it) {
     p.iterations = it + 1;
@@ -169,13 +172,30 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       p.failure = "cycle";
       break;
     }
-    auto t0 = Clock::now();
-    p.tangent = assemble_tangent(net, states, p.statuses);
-    p.kept = kept_dofs(net, states, p.statuses);
-    if (timings) timings->assembly += seconds_since(t0);
-    if (!solve_kept(p.tangent, p.kept, r0, lu, p.dq, timings, true)) {
-      p.failure = "singular";
-      break;
+    if (it == 0 && warm && warm->factor && warm->statuses == p.statuses &&
+        warm->tangent.rows() == net.dofs.size) {
+      // Same state and statuses as the stability check that accepted it: reuse its factor
+      // (its K_load differs by the load increment of the check only, O(1e-6 dq P A0)).
+      p.tangent = warm->tangent;
+      p.kept = warm->kept;
+      factor = warm->factor;
+      const auto t0 = Clock::now();
+      const bool solved = solve_factored(p.tangent, p.kept, *factor, r0, p.dq, true);
+      if (timings) timings->factorisation += seconds_since(t0);
+      if (!solved) {
+        p.failure = "singular";
+        break;
+      }
+    } else {
+      auto t0 = Clock::now();
+      p.tangent = assemble_tangent(net, states, p.statuses);
+      p.kept = kept_dofs(net, states, p.statuses);
+      if (timings) timings->assembly += seconds_since(t0);
+      factor = std::make_shared<LuFactor>();
+      if (!solve_kept(p.tangent, p.kept, r0, *factor, p.dq, timings, true)) {
+        p.failure = "singular";
+        break;
+      }
     }
     // Complementarity checks on the linearised increment (§S3.1).
     bool consistent = true;
@@ -217,7 +237,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
     if (consistent) {
       p.ok = true;
       p.failure.clear();
-      p.determinant_sign = lu.determinant_sign();
+      p.determinant_sign = factor->determinant_sign();
       p.factor = factor;
       break;
     }
@@ -275,9 +295,9 @@ Eigen::VectorXd chord_iterations(const Network& net, const PredictorResult& p, E
 }  // namespace
 
 StepResult load_step(Network& net, const SolverOptions& options, Timings* timings,
-                     const std::vector<ContactStatus>* start) {
+                     const PredictorResult* warm) {
   StepResult step;
-  step.predictor = predict(net, options, timings, nullptr, start);
+  step.predictor = predict(net, options, timings, nullptr, warm);
   if (!step.predictor.ok) {
     step.failure = "predictor: " + step.predictor.failure;
     return step;

@@ -68,10 +68,11 @@ struct PredictorResult {
 // solving the full unsymmetric K with UMFPACK each time; cycles are detected by hashing the
 // status vectors. net carries the loads of the end of the step.
 // With rhs given, it replaces R(0) (the stability check solves for a pure load increment); with
-// start given, the loop starts from those statuses (warm start) instead of classify_contacts.
+// warm given (a loop run at the same state), the loop starts from its statuses instead of
+// classify_contacts, and reuses its factor while the statuses agree.
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings = nullptr,
                         const Eigen::VectorXd* rhs = nullptr,
-                        const std::vector<ContactStatus>* start = nullptr);
+                        const PredictorResult* warm = nullptr);
 
 struct StepResult {
   bool ok = false;
@@ -81,10 +82,10 @@ struct StepResult {
   int new_contacts = 0;
 };
 
-// Advances net to the equilibrium under its (new) loads; on failure net is unchanged. start: warm
-// start of the complementarity loop (e.g. the statuses of the stability check of this state).
+// Advances net to the equilibrium under its (new) loads; on failure net is unchanged. warm: the
+// stability check of this state, to warm-start the complementarity loop (see predict).
 StepResult load_step(Network& net, const SolverOptions& options, Timings* timings = nullptr,
-                     const std::vector<ContactStatus>* start = nullptr);
+                     const PredictorResult* warm = nullptr);
 
 // Moves the start of the step to dq: positions, rotations, cell lengths, tangential states and
 // statuses; open contacts leave the list; imposed extensions are consumed.

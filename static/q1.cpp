@@ -151,7 +151,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   while (result.steps < options.max_steps && lambda < options.load_stop) {
     Network trial = net;
     path(trial, lambda + step);
-    const StepResult s = load_step(trial, options.solver, &result.timings, &last_check.statuses);
+    const StepResult s = load_step(trial, options.solver, &result.timings, &last_check);
     bool accepted = false;
     beyond = s.predictor.ever_sliding;
     if (s.ok) {
