@@ -128,5 +128,27 @@ TEST(PeriodicChain, TwoDisksTouchTwiceOnlyTheGearModeIsFree) {
   EXPECT_LT(stability(chain(2, force, 0.99 * threshold, false)).hill, 0.0);
 }
 
+// Criterion (b) on the 2-disk chain with rotations pinned: raising the axial force F, the single
+// transverse mode loses stability when K_T = F/d with d = 1 - F/K_N, i.e. at
+// F* = K_T / (1 + K_T/K_N); det K changes sign there.
+TEST(PeriodicChain, AxialLoadBifurcatesWhereTheTransverseStiffnessVanishes) {
+  const double k_t = 50.0, k_n = 1e3, f_star = k_t / (1.0 + k_t / k_n);
+  Network net = chain(2, 10.0, k_t, true);
+  const double l2 = net.length[1];
+  const LoadPath axial = [l2](Network& n, double force) { n.loading.sigma = {force / l2, 0.0}; };
+  Q1Options o;
+  o.dq = 1.0;
+  o.dq_min = 1e-6;
+  const StabilityResult r = trace_to_instability(net, 10.0, axial, net.length, o);
+  EXPECT_EQ(r.criterion, Criterion::bifurcation) << r.detail;
+  EXPECT_LE(r.q1_bracket[0], f_star);
+  EXPECT_GE(r.q1_bracket[1], f_star);
+  EXPECT_LT(r.q1_bracket[1] - r.q1_bracket[0], 2e-6);
+  EXPECT_GT(r.curve.front().hill, 0.0);
+  // The mode is the transverse displacement of the free disk.
+  ASSERT_EQ(r.mode.size(), 6u);
+  EXPECT_GT(std::abs(r.mode[4]), 0.999);
+}
+
 }  // namespace
 }  // namespace granstab::statics
