@@ -96,6 +96,7 @@ void run_prepare(const PrepareOptions& o) {
                   solid_fraction(state), r.max_net_force, r.max_net_torque, r.stress_error[0],
                   r.stress_error[1]);
     progress.update(static_cast<double>(step), detail);
+    return true;
   };
   Configuration state;
   const protocols::CompactionResult result =

@@ -13,6 +13,9 @@ int main(int argc, char** argv) {
   granstab::cli::add_info_command(app);
   granstab::cli::add_q1_command(app);
   granstab::cli::add_prepare_command(app);
+  granstab::cli::add_biaxial_command(app);
+  granstab::cli::add_creep_command(app);
+  granstab::cli::add_perturb_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -24,9 +24,22 @@ void run_perturbations(Engine& engine, const PerturbationOptions& options, std::
     record.epsilon_2_before = before[1];
     record.epsilon_v_before = before[2];
     // Fresh draws, x then y for each disk in index order (reproducible from the seed).
+    double mean_x = 0.0, mean_y = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       fx[i] = component(rng);
       fy[i] = component(rng);
+      mean_x += fx[i];
+      mean_y += fy[i];
+    }
+    // In a periodic cell nothing holds the sample against a net external force: it would
+    // accelerate as a whole and never come to rest. Only the fluctuating part is applied there.
+    if (state.cell.periodic()) {
+      mean_x /= static_cast<double>(n);
+      mean_y /= static_cast<double>(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        fx[i] -= mean_x;
+        fy[i] -= mean_y;
+      }
     }
     engine.set_external_forces(fx, fy);
     record.loaded = run_to_equilibrium(engine, options.equilibration, state, observer, fx, fy);

@@ -10,7 +10,9 @@
 namespace granstab::protocols {
 
 struct PerturbationOptions {
-  double f0 = 1e-3;      // units of aP
+  // Units of aP. In a periodic cell the mean of each component over the disks is subtracted
+  // (a net force would accelerate the whole sample), so the applied forces slightly exceed f0.
+  double f0 = 1e-3;
   int repetitions = 10;
   // Each draw replaces the previous forces and starts from the state the previous one left
   // (strains accumulate). With release, the forces are removed after each loaded equilibrium and
