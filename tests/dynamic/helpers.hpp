@@ -2,6 +2,7 @@
 // Small configurations for the engine tests, built in the tests themselves.
 #include <cstdint>
 #include <random>
+#include <stdexcept>
 
 #include "common/configuration.hpp"
 #include "dynamic/cell_control.hpp"
@@ -60,28 +61,6 @@ inline Configuration random_gas(int n, double phi, const Material& material, std
   c.cell.mass = {m, m};
   return c;
 }
-
-// Compresses a gas isotropically under pressure p (stress control on both axes) with damping
-// and returns the state after `steps` steps.
-inline Configuration compress(Configuration c, double p, std::uint64_t steps, int chunk = 1000) {
-  c.stage.control = {LengthControl::stress, LengthControl::stress};
-  c.stage.sigma_ext = {p, p};
-  Engine engine(c);
-  for (std::uint64_t s = 0; s < steps; s += chunk) engine.run(chunk);
-  return engine.configuration();
-}
-
-inline double max_net_force(const Engine& e) {
-  double f = 0.0;
-  for (std::size_t i = 0; i < e.size(); ++i) {
-    f = std::max(f, std::hypot(e.force_x(i), e.force_y(i)));
-  }
-  return f;
-}
-
-}  // namespace granstab::testing
-
-namespace granstab::testing {
 
 // Largest net force over disks with at least two contacts (rattlers carry no force; SPEC §3.1).
 inline double max_net_force_non_rattler(const Engine& e) {
