@@ -2,9 +2,11 @@
 // Dense periodic benchmark samples (issue #3 / #7 workload): N disks with diameters uniform in
 // [1/2, 1], placed with jitter on a triangular lattice of spacing 1.05 (no overlap, Phi ~ 0.5) and
 // compressed by the engine under isotropic stress P = 1 (see dense_sample).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include "common/configuration.hpp"
 #include "dynamic/cell_control.hpp"
@@ -72,6 +74,31 @@ inline Configuration dense_sample(int n, const Material& material, std::uint64_t
   Configuration out = e.configuration();
   out.material = material;
   out.stage.reference_length = out.cell.length;
+  return out;
+}
+
+// The same sample with its disks in random index order (contacts renumbered alike).
+inline Configuration shuffled(const Configuration& c, std::uint64_t seed) {
+  const std::size_t n = c.disks.size();
+  std::vector<int> order(n);  // new index k holds old disk order[k]
+  for (std::size_t k = 0; k < n; ++k) order[k] = static_cast<int>(k);
+  std::mt19937_64 rng(seed);
+  std::shuffle(order.begin(), order.end(), rng);
+  std::vector<int> new_index(n);
+  for (std::size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<int>(k);
+  Configuration out = c;
+  Disks& d = out.disks;
+  const Disks& s = c.disks;
+  for (std::size_t k = 0; k < n; ++k) {
+    const int o = order[k];
+    d.x[k] = s.x[o], d.y[k] = s.y[o], d.radius[k] = s.radius[o], d.mass[k] = s.mass[o];
+    d.inertia[k] = s.inertia[o], d.vx[k] = s.vx[o], d.vy[k] = s.vy[o];
+    d.omega[k] = s.omega[o], d.theta[k] = s.theta[o];
+  }
+  for (std::size_t k = 0; k < out.contacts.size(); ++k) {
+    out.contacts.i[k] = new_index[c.contacts.i[k]];
+    if (c.contacts.j[k] >= 0) out.contacts.j[k] = new_index[c.contacts.j[k]];
+  }
   return out;
 }
 
