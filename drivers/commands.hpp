@@ -10,10 +10,12 @@ namespace granstab::cli {
 
 void add_version_command(CLI::App& app);
 void add_info_command(CLI::App& app);
-void add_q1_command(CLI::App& app);
 void add_prepare_command(CLI::App& app);
 void add_biaxial_command(CLI::App& app);
 void add_creep_command(CLI::App& app);
 void add_perturb_command(CLI::App& app);
+void add_q1_command(CLI::App& app);
+void add_compare_command(CLI::App& app);
+void add_plot_command(CLI::App& app);
 
 }  // namespace granstab::cli

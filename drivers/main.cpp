@@ -11,11 +11,13 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   granstab::cli::add_version_command(app);
   granstab::cli::add_info_command(app);
-  granstab::cli::add_q1_command(app);
   granstab::cli::add_prepare_command(app);
   granstab::cli::add_biaxial_command(app);
   granstab::cli::add_creep_command(app);
   granstab::cli::add_perturb_command(app);
+  granstab::cli::add_q1_command(app);
+  granstab::cli::add_compare_command(app);
+  granstab::cli::add_plot_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
