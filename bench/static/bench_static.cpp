@@ -51,8 +51,11 @@ int main(int argc, char** argv) {
     o.hill = false;
     const auto t2 = Clock::now();
     const statics::StabilityResult r = statics::find_q1(config, o);
-    std::printf("q1 = %.6f (%s), %d steps, %.2f s\n", r.q1, statics::criterion_name(r.criterion),
-                r.steps, std::chrono::duration<double>(Clock::now() - t2).count());
+    std::printf("q1 = %.6f (%s), %d steps, %.2f s (assembly %.2f, factorisation %.2f, "
+                "complementarity loops %.2f, correctors %.2f)\n",
+                r.q1, statics::criterion_name(r.criterion), r.steps,
+                std::chrono::duration<double>(Clock::now() - t2).count(), r.timings.assembly,
+                r.timings.factorisation, r.timings.complementarity, r.timings.corrector);
   }
   return 0;
 }
