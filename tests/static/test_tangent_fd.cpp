@@ -102,6 +102,21 @@ TEST(TangentFiniteDifference, WallsInsideStepWithWallDisplacement) {
   expect_tangent_matches(net, inside_step(net));
 }
 
+// Strain control: e2 imposed (not a dof) and the nominal stress measure (constant loads, no
+// K_load) on e1; the imposed extension enters the frames and the tangential measure.
+TEST(TangentFiniteDifference, NominalMeasureWithImposedExtension) {
+  Network net = testing::periodic_mixed_network();
+  net.loading.measure = StressMeasure::nominal;
+  net.loading.nominal_length = {2.0, 1.7};
+  net.loading.e_imposed = {0.0, -2e-3};
+  DofOptions o = testing::all_active(net, true);
+  o.cell = {true, false};
+  net.dofs = build_dof_map(o);
+  EXPECT_EQ(net.dofs.e[1], -1);
+  expect_tangent_matches(net, Eigen::VectorXd::Zero(net.dofs.size));
+  expect_tangent_matches(net, inside_step(net));
+}
+
 // The naive stick term K_T B_T(q)^T B_T(q) is the derivative of no force routine: inside a step
 // it misses the finite differences by ~K_T |d phi|, far above the 1e-6 criterion.
 TEST(TangentFiniteDifference, CurrentFrameStickTermIsNotTheTangent) {
