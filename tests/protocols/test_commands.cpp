@@ -110,6 +110,9 @@ struct BadCase {
   const char* message;  // must appear in the error
 };
 
+// gtest prints the case (instead of its bytes) in failure messages and names tests after it.
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.command << ": " << c.message; }
+
 class BadSettings : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(BadSettings, FailWithAClearErrorAndWriteNothing) {
@@ -149,7 +152,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"perturb", input + "[perturb]\nf0 = -1\n[output]\ncsv = \"x.csv\"\n",
                 "perturb.f0"},
         BadCase{"perturb", "[input]\nsample = \"nowhere/none.granstab\"\n[output]\ncsv = \"x.csv\"\n",
-                "no such file"}));
+                "no such file"}),
+    [](const ::testing::TestParamInfo<BadCase>& info) {
+      return std::string(info.param.command) + std::to_string(info.index);
+    });
 
 }  // namespace
 }  // namespace granstab
