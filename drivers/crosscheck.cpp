@@ -65,6 +65,11 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
                         : 1.0;
   double step_sum = 0.0;
   int step_count = 0;
+  for (const statics::CurvePoint& p : static_curve)
+    if (p.n_sliding > 0 && p.load <= q1) {
+      out.q_first_static_sliding = p.load;
+      break;
+    }
   for (std::size_t d = 0; d < dynamic_curve.size(); ++d) {
     const DynamicPoint& p = dynamic_curve[d];
     const bool below = p.q_target <= q1 + 1e-9 * dq;
@@ -115,8 +120,12 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
         std::max(out.max_abs_diff_epsv, std::abs(m.epsv_dynamic - m.epsv_static));
     out.max_abs_diff_eps1 =
         std::max(out.max_abs_diff_eps1, std::abs(m.eps1_dynamic - m.eps1_static));
-    if (m.bound_eps2 > 0.0)
+    if (m.bound_eps2 > 0.0) {
       out.max_diff_over_bound_eps2 = std::max(out.max_diff_over_bound_eps2, d2 / m.bound_eps2);
+      if (!(m.q >= out.q_first_static_sliding - 1e-9 * dq))
+        out.max_diff_over_bound_eps2_before_sliding =
+            std::max(out.max_diff_over_bound_eps2_before_sliding, d2 / m.bound_eps2);
+    }
     out.points.push_back(m);
   }
   out.n_steps_compared = static_cast<int>(out.points.size());
@@ -376,6 +385,9 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"max_abs_diff_epsv_below_q1\": " << json_number(c.max_abs_diff_epsv) << ",\n"
     << "  \"max_abs_diff_eps1_below_q1\": " << json_number(c.max_abs_diff_eps1) << ",\n"
     << "  \"max_diff_over_bound_eps2\": " << json_number(c.max_diff_over_bound_eps2) << ",\n"
+    << "  \"q_first_static_sliding\": " << json_number(c.q_first_static_sliding) << ",\n"
+    << "  \"max_diff_over_bound_eps2_before_sliding\": "
+    << json_number(c.max_diff_over_bound_eps2_before_sliding) << ",\n"
     << "  \"dynamic_jump_after_q1\": " << json_number(c.dynamic_jump_after_q1) << ",\n"
     << "  \"q_of_jump\": " << json_number(c.q_of_jump) << ",\n"
     << "  \"jump_reached_equilibrium\": " << (c.jump_reached_equilibrium ? "true" : "false")

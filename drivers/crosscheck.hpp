@@ -73,6 +73,11 @@ struct Comparison {
   double max_abs_diff_epsv = 0.0;
   double max_abs_diff_eps1 = 0.0;
   double max_diff_over_bound_eps2 = 0.0;  // max over points of |diff eps2| / bound_eps2
+  // First static state with a sliding contact (NaN if none below q1), and the ratio above over the
+  // matched states before it: sliding contacts are where the dynamic path (transient overshoot
+  // after each stress step) can slip more than the quasistatic one (docs/user-guide.md).
+  double q_first_static_sliding = std::numeric_limits<double>::quiet_NaN();
+  double max_diff_over_bound_eps2_before_sliding = 0.0;
   // First dynamic increment past q1: its strain jump eps2(q_k) - eps2(q_k - dq), and the same
   // jump on average over the dynamic increments below q1 (for scale).
   double dynamic_jump_after_q1 = std::numeric_limits<double>::quiet_NaN();

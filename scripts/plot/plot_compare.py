@@ -27,6 +27,8 @@ from matplotlib.patches import Circle  # noqa: E402
 STATIC_COLOUR = "#1f4e9c"
 DYNAMIC_COLOUR = "#d9531e"
 Q1_COLOUR = "#2a7f3f"
+# Set in main(): "loss of stability" only when the static run found one.
+Q1_LABEL = [r"loss of stability $q_1$ (static)"]
 
 
 def read_csv(path):
@@ -52,7 +54,7 @@ def curve_panel(ax, xs, ys, xd, yd, ylabel, q1_x, q1_y, inset_box, legend):
     ax.plot(xd, yd, "o", color=DYNAMIC_COLOUR, ms=3.5, mfc="none", mew=1.0,
             label="dynamic SIC (MD, §3.3)")
     ax.plot([q1_x], [q1_y], "*", color=Q1_COLOUR, ms=13, mec="black", mew=0.5, zorder=5,
-            label=r"loss of stability $q_1$ (static)")
+            label=Q1_LABEL[0])
     ax.set_xlabel(r"axial strain $\varepsilon_2$")
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
@@ -142,7 +144,13 @@ def plot_difference(d, info, matched):
     ax.set_title(f"static vs dynamic below $q_1$ (dynamic tolerances: force {tol['force']:g}, "
                  f"stress {tol['stress']:g})", fontsize=9)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, loc="lower right")
+    qs = info.get("q_first_static_sliding")
+    if qs is not None:
+        ax.axvline(qs, color="0.5", ls=":", lw=0.9)
+        ax.annotate("first sliding contact (static)", xy=(qs, 0.02), xycoords=("data", "axes fraction"),
+                    xytext=(3, 0), textcoords="offset points", fontsize=7, color="0.35",
+                    rotation=90, va="bottom")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
     fig.tight_layout()
     save(fig, d, "difference")
 
@@ -227,8 +235,11 @@ def plot_sample(d, info):
     ax.set_aspect("equal")
     ax.set_xlabel(r"$x_1$ ($a$)")
     ax.set_ylabel(r"$x_2$ ($a$, axial direction)")
-    ax.set_title(f"static network at $q_1$ = {info['q1']:.4g} ({info['criterion']}); "
-                 f"grey disks: rattlers", fontsize=10)
+    if info["criterion"] == "none":
+        where = f"static network at q = {info['q1']:.4g} (still stable: no unstable mode)"
+    else:
+        where = f"static network at $q_1$ = {info['q1']:.4g} ({info['criterion']})"
+    ax.set_title(where + "; grey disks: rattlers", fontsize=10)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=2, fontsize=8)
     fig.tight_layout()
     save(fig, d, "sample_at_q1")
@@ -243,6 +254,8 @@ def main(argv):
     static = read_csv(os.path.join(d, "static_curve.csv"))
     dynamic = read_csv(os.path.join(d, "dynamic_curve.csv"))
     matched = read_csv(os.path.join(d, "matched.csv"))
+    if info["criterion"] == "none":
+        Q1_LABEL[0] = "last static state (still stable)"
     plot_curves(d, info, static, dynamic)
     plot_difference(d, info, matched)
     plot_sample(d, info)
