@@ -6,8 +6,8 @@
 //   bench_engine [--sizes 1400,5600,22400] [--threads 1,2] [--repeats 5] [--steps 2000]
 //                [--shuffle 1]
 // --shuffle 1 also times the same sample with its disks in random index order (as a sample
-// prepared from a random gas is): the lattice-built sample is ordered in space, which makes
-// the partners' data of a disk close in memory.
+// prepared from a random gas is), and that one renumbered by spatial_order(): the lattice-built
+// sample is ordered in space, which keeps the partners' data of a disk close in memory.
 #include <omp.h>
 
 #include <time.h>
@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "dynamic/spatial_order.hpp"
 #include "sample.hpp"
 
 namespace {
@@ -78,7 +79,11 @@ int main(int argc, char** argv) {
     sample.stage.strain_rate = {0.0, 1e-4};
     sample.cell.length_rate = {0.0, -1e-4 * sample.cell.length[1]};
     std::vector<Configuration> samples{sample};
-    if (shuffle) samples.push_back(bench::shuffled(sample, 7));
+    if (shuffle) {
+      const Configuration random_order = bench::shuffled(sample, 7);
+      samples.push_back(random_order);
+      samples.push_back(renumbered(random_order, spatial_order(random_order)));
+    }
     for (std::size_t v = 0; v < samples.size(); ++v) {
       std::vector<std::vector<double>> rates(threads.size()), cpu_rates(threads.size());
       std::size_t contacts = 0;
@@ -105,7 +110,7 @@ int main(int argc, char** argv) {
                     median(rates[t]), *std::min_element(rates[t].begin(), rates[t].end()),
                     *std::max_element(rates[t].begin(), rates[t].end()), median(cpu_rates[t]),
                     static_cast<double>(contacts) / n, static_cast<unsigned long long>(rebuilds),
-                    v == 1 ? "  shuffled" : "");
+                    v == 1 ? "  shuffled" : (v == 2 ? "  shuffled, then spatial_order" : ""));
       }
     }
     std::printf("# N = %d: sample prepared in %.1f s\n", n, prep);
