@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "common/atomic_file.hpp"
 #include "common/io/configuration_file.hpp"
+#include "crosscheck.hpp"
 #include "static/q1.hpp"
 #include "static/rigid_limit.hpp"
 
@@ -45,30 +46,8 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
-std::string curve_csv(const statics::StabilityResult& r) {
-  std::ostringstream s;
-  s << "step,load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,hill,det_sign,newton_iterations,"
-       "new_contacts\n";
-  for (std::size_t k = 0; k < r.curve.size(); ++k) {
-    const statics::CurvePoint& p = r.curve[k];
-    s << k << ',' << json(p.load) << ',' << json(p.q) << ',' << json(p.eps1) << ','
-      << json(p.eps2) << ',' << json(p.epsv) << ',' << p.n_sliding << ',' << json(p.hill) << ','
-      << p.determinant_sign << ',' << p.newton_iterations << ',' << p.new_contacts << '\n';
-  }
-  return s.str();
-}
-
-// The unstable mode at q1, one row per disk (rattlers and pinned components are 0), then the cell.
-std::string mode_csv(const statics::StabilityResult& r) {
-  std::ostringstream s;
-  s << "disk,x,y,ux,uy,theta\n";
-  const statics::Network& n = r.network_at_q1;
-  for (std::size_t i = 0; 3 * i + 2 < r.mode.size() && i < n.n_disks(); ++i)
-    s << i << ',' << json(n.x[i]) << ',' << json(n.y[i]) << ',' << json(r.mode[3 * i]) << ','
-      << json(r.mode[3 * i + 1]) << ',' << json(r.mode[3 * i + 2]) << '\n';
-  s << "e1," << json(r.mode_cell[0]) << ",,,,\ne2," << json(r.mode_cell[1]) << ",,,,\n";
-  return s.str();
-}
+// static_curve.csv and unstable_mode.csv: the one writer shared with `granstab compare`
+// (drivers/crosscheck.hpp).
 
 std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
                     const statics::StabilityResult& r, const statics::RigidLimitResult& rigid,
@@ -122,8 +101,8 @@ void run_q1(Q1CommandOptions o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::filesystem::path dir = o.out;
   std::filesystem::create_directories(dir);
-  write_file_atomically(dir / "static_curve.csv", curve_csv(r));
-  write_file_atomically(dir / "unstable_mode.csv", mode_csv(r));
+  write_file_atomically(dir / "static_curve.csv", crosscheck::static_curve_csv(r));
+  write_file_atomically(dir / "unstable_mode.csv", crosscheck::mode_csv(r));
   write_file_atomically(dir / "q1.json", q1_json(o, config, r, rigid, seconds));
   char line[256];
   std::snprintf(line, sizeof line,
