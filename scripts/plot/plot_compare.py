@@ -98,7 +98,8 @@ def plot_curves(d, info, static, dynamic):
     curve_panel(axes[0], xs, qs, xd, qd, r"deviator ratio $q = (\sigma_2 - \sigma_1)/\sigma_1$",
                 x1, q1, (x_in, q_lo - q_pad, q_hi + q_pad) if zoom else None, True)
     axes[0].axhline(q1, color=Q1_COLOUR, ls="--", lw=0.9)
-    axes[0].annotate(rf"$q_1 = {q1:.4g}$", xy=(1.0, q1), xycoords=("axes fraction", "data"),
+    q1_text = rf"$q_1 = {q1:.4g}$" if info["criterion"] != "none" else f"stable up to q = {q1:.4g}"
+    axes[0].annotate(q1_text, xy=(1.0, q1), xycoords=("axes fraction", "data"),
                      xytext=(-4, 4), textcoords="offset points", ha="right", va="bottom",
                      color=Q1_COLOUR, fontsize=9)
     qr = info.get("q_max_rigid")
@@ -114,7 +115,8 @@ def plot_curves(d, info, static, dynamic):
     fig.suptitle(
         f"{os.path.basename(info['sample'])}: N = {info['n_disks']}, "
         rf"$\kappa$ = {info['kappa']:.3g}, $\mu$ = {info['mu']:g}, $\Delta q$ = {info['dq']:g}"
-        f"  ({info['criterion']} at $q_1$)", fontsize=11)
+        + (f"  ({info['criterion']} at $q_1$)" if info["criterion"] != "none"
+           else "  (static run stopped while stable)"), fontsize=11)
     fig.tight_layout()
     save(fig, d, "curves")
 
