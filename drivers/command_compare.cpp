@@ -48,14 +48,15 @@ void print_verdict(const crosscheck::CrosscheckResult& r, const std::filesystem:
   row("max |d eps_v| below q1", "%.3e", c.max_abs_diff_epsv);
   row("max |d eps2| / tolerance bound", "%.3g", c.max_diff_over_bound_eps2);
   row("first sliding contact (static) at q", "%.6g", c.q_first_static_sliding);
-  row("max |d eps2| / bound before it", "%.3g", c.max_diff_over_bound_eps2_before_sliding);
+  row("max |d eps2| / bound before it", "%.3g (%d states)",
+      c.max_diff_over_bound_eps2_before_sliding, c.n_compared_before_sliding);
   row("mean dynamic eps2 step below q1", "%.3e", c.mean_dynamic_step_below_q1);
   row("dynamic eps2 jump after q1", "%.3e at q = %.6g%s", c.dynamic_jump_after_q1, c.q_of_jump,
       c.jump_reached_equilibrium ? "" : " (no equilibrium)");
   row("seconds static / dynamic", "%.3g / %.3g", r.static_seconds, r.dynamic_seconds);
   const bool agree = c.n_steps_compared > 0 && c.max_diff_over_bound_eps2 <= 1.0;
   const bool agree_before =
-      c.n_steps_compared > 0 && c.max_diff_over_bound_eps2_before_sliding <= 1.0;
+      c.n_compared_before_sliding > 0 && c.max_diff_over_bound_eps2_before_sliding <= 1.0;
   std::printf("verdict: %s\n",
               c.n_steps_compared == 0
                   ? "nothing to compare (no dynamic equilibrium below q1)"

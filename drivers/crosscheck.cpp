@@ -122,9 +122,11 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
         std::max(out.max_abs_diff_eps1, std::abs(m.eps1_dynamic - m.eps1_static));
     if (m.bound_eps2 > 0.0) {
       out.max_diff_over_bound_eps2 = std::max(out.max_diff_over_bound_eps2, d2 / m.bound_eps2);
-      if (!(m.q >= out.q_first_static_sliding - 1e-9 * dq))
+      if (!(m.q >= out.q_first_static_sliding - 1e-9 * dq)) {
         out.max_diff_over_bound_eps2_before_sliding =
             std::max(out.max_diff_over_bound_eps2_before_sliding, d2 / m.bound_eps2);
+        ++out.n_compared_before_sliding;
+      }
     }
     out.points.push_back(m);
   }
@@ -388,6 +390,7 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"q_first_static_sliding\": " << json_number(c.q_first_static_sliding) << ",\n"
     << "  \"max_diff_over_bound_eps2_before_sliding\": "
     << json_number(c.max_diff_over_bound_eps2_before_sliding) << ",\n"
+    << "  \"n_compared_before_sliding\": " << c.n_compared_before_sliding << ",\n"
     << "  \"dynamic_jump_after_q1\": " << json_number(c.dynamic_jump_after_q1) << ",\n"
     << "  \"q_of_jump\": " << json_number(c.q_of_jump) << ",\n"
     << "  \"jump_reached_equilibrium\": " << (c.jump_reached_equilibrium ? "true" : "false")

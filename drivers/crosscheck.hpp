@@ -78,6 +78,7 @@ struct Comparison {
   // after each stress step) can slip more than the quasistatic one (docs/user-guide.md).
   double q_first_static_sliding = std::numeric_limits<double>::quiet_NaN();
   double max_diff_over_bound_eps2_before_sliding = 0.0;
+  int n_compared_before_sliding = 0;
   // First dynamic increment past q1: its strain jump eps2(q_k) - eps2(q_k - dq), and the same
   // jump on average over the dynamic increments below q1 (for scale).
   double dynamic_jump_after_q1 = std::numeric_limits<double>::quiet_NaN();

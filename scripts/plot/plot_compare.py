@@ -64,7 +64,7 @@ def curve_panel(ax, xs, ys, xd, yd, ylabel, q1_x, q1_y, inset_box, legend):
     if inset_box is None:
         return
     xmax, ylo, yhi = inset_box
-    ins = ax.inset_axes([0.08, 0.52, 0.42, 0.42])
+    ins = ax.inset_axes([0.08, 0.47, 0.42, 0.42])
     ins.plot(xs, ys, "-", color=STATIC_COLOUR, lw=1.4)
     ins.plot(xd, yd, "o", color=DYNAMIC_COLOUR, ms=3, mfc="none", mew=0.9)
     ins.plot([q1_x], [q1_y], "*", color=Q1_COLOUR, ms=10, mec="black", mew=0.5, zorder=5)

@@ -58,6 +58,15 @@ TEST(CompareCurves, MatchesAtTheSameQAndMeasuresTheJumpAfterQ1) {
   EXPECT_DOUBLE_EQ(c.q_of_jump, 0.3);
   EXPECT_TRUE(c.jump_reached_equilibrium);
   EXPECT_NEAR(c.mean_dynamic_step_below_q1, 0.202, 1e-15);
+  // No static sliding contact: every compared state counts as "before sliding".
+  EXPECT_TRUE(std::isnan(c.q_first_static_sliding));
+  EXPECT_EQ(c.n_compared_before_sliding, 2);
+  // A contact slides from q = 0.2 on: only q = 0.1 is before it.
+  std::vector<statics::CurvePoint> sliding = s;
+  for (std::size_t k = 2; k < sliding.size(); ++k) sliding[k].n_sliding = 1;
+  const Comparison cs = compare_curves(sliding, 0.25, d, 1.0, {});
+  EXPECT_DOUBLE_EQ(cs.q_first_static_sliding, 0.2);
+  EXPECT_EQ(cs.n_compared_before_sliding, 1);
 }
 
 TEST(CompareCurves, InterpolatesBetweenCutStatesAndStopsAtTheFirstFailedDynamicState) {
