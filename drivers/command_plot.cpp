@@ -47,7 +47,9 @@ void run_plot(const PlotOptions& o) {
   if (!std::filesystem::is_regular_file(script))
     throw std::runtime_error(script.string() + ": plotting script not found (source tree moved?)");
   ::setenv("MPLBACKEND", "Agg", 1);
-  if (run_program({o.python, "-c", "import matplotlib"}) != 0)
+  const int probe = run_program({o.python, "-c", "import matplotlib"});
+  if (probe < 0) throw std::runtime_error(o.python + ": cannot run this Python interpreter");
+  if (probe != 0)
     throw std::runtime_error(o.python +
                              " cannot import matplotlib: install it with "
                              "`apt-get install python3-matplotlib` (scripts/install-deps.sh)");
