@@ -76,6 +76,7 @@ void run_perturb(const PerturbCommandOptions& o) {
   engine.set_stress_control(0, pressure);
   engine.set_stress_control(1, pressure * (1.0 + q));
 
+  Progress progress("perturb", s.perturbation.repetitions, !o.quiet);
   Configuration state;
   // The reference equilibrium at the held stresses (usually reached at once).
   const auto initial = protocols::run_to_equilibrium(engine, s.perturbation.equilibration, state);
@@ -89,7 +90,6 @@ void run_perturb(const PerturbCommandOptions& o) {
                  "delta_epsilon_v_released", "released_steps", "released_reached", "q",
                  "max_net_force"},
                 30.0);
-  Progress progress("perturb", s.perturbation.repetitions, !o.quiet);
   std::mt19937_64 rng(s.seed);
   int draws = 0, reached = 0;
   const auto on_record = [&](const Engine&, const Configuration& now,
@@ -128,6 +128,7 @@ void run_perturb(const PerturbCommandOptions& o) {
       .add("draws_reaching_equilibrium", static_cast<std::int64_t>(reached))
       .add("epsilon_2_final", m.epsilon_2)
       .add("epsilon_v_final", m.epsilon_v)
+      .add("initial_equilibrium_steps", initial.steps)
       .add("steps", engine.step_count() - s.sample.step)
       .add("wall_seconds", wall_seconds)
       .add("csv", s.csv.string());
