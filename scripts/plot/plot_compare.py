@@ -48,29 +48,38 @@ def save(fig, directory, name):
     plt.close(fig)
 
 
-def curve_panel(ax, xs, ys, xd, yd, ylabel, q1_x, q1_y, inset_box, legend):
-    """One panel: static line, dynamic markers, q1 marked; an inset on the range q <= q1."""
-    ax.plot(xs, ys, "-", color=STATIC_COLOUR, lw=1.6, label="static (contact network, §4)")
-    ax.plot(xd, yd, "o", color=DYNAMIC_COLOUR, ms=3.5, mfc="none", mew=1.0,
-            label="dynamic SIC (MD, §3.3)")
+def curve_panel(ax, xs, ys, xd, yd, n_below, ylabel, q1_x, q1_y, inset_box):
+    """One panel: static line, dynamic markers (the first n_below at q <= q1), q1 marked; an
+    inset on the quasistatic range."""
+    # Dense runs (small delta q): every k-th dynamic marker below q1, the static line on top;
+    # every dynamic state beyond q1 is drawn (filled), since that is where the curves part.
+    every = max(1, n_below // 45)
+    ax.plot(xs, ys, "-", color=STATIC_COLOUR, lw=1.6, zorder=3,
+            label="static (contact network, §4)")
+    ax.plot(xd[:n_below], yd[:n_below], "o", color=DYNAMIC_COLOUR, ms=3.5, mfc="none", mew=1.0,
+            markevery=every,
+            label="dynamic SIC (MD, §3.3)" + (f", every {every}th state" if every > 1 else ""))
+    if n_below < len(xd):
+        ax.plot(xd[n_below:], yd[n_below:], "o", color=DYNAMIC_COLOUR, ms=4, zorder=4,
+                label=r"dynamic SIC beyond $q_1$")
     ax.plot([q1_x], [q1_y], "*", color=Q1_COLOUR, ms=13, mec="black", mew=0.5, zorder=5,
             label=Q1_LABEL[0])
     ax.set_xlabel(r"axial strain $\varepsilon_2$")
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
     ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 3))
-    if legend:
-        ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
     if inset_box is None:
         return
-    xmax, ylo, yhi = inset_box
-    ins = ax.inset_axes([0.08, 0.47, 0.42, 0.42])
-    ins.plot(xs, ys, "-", color=STATIC_COLOUR, lw=1.4)
-    ins.plot(xd, yd, "o", color=DYNAMIC_COLOUR, ms=3, mfc="none", mew=0.9)
+    xmax, ylo, yhi, title = inset_box
+    ins = ax.inset_axes([0.57, 0.1, 0.38, 0.38])
+    inside = [i for i, x in enumerate(xd) if x <= xmax]
+    ins.plot(xs, ys, "-", color=STATIC_COLOUR, lw=1.4, zorder=3)
+    ins.plot([xd[i] for i in inside], [yd[i] for i in inside], "o", color=DYNAMIC_COLOUR, ms=3,
+             mfc="none", mew=0.9, markevery=max(1, len(inside) // 30))
     ins.plot([q1_x], [q1_y], "*", color=Q1_COLOUR, ms=10, mec="black", mew=0.5, zorder=5)
     ins.set_xlim(0.0, xmax)
     ins.set_ylim(ylo, yhi)
-    ins.set_title(r"strictly quasistatic range $q \leq q_1$", fontsize=7)
+    ins.set_title(title, fontsize=7)
     ins.tick_params(labelsize=6)
     ins.ticklabel_format(axis="both", style="sci", scilimits=(-3, 3))
     ins.xaxis.get_offset_text().set_fontsize(6)
@@ -92,11 +101,26 @@ def plot_curves(d, info, static, dynamic):
     v_vals = vs + [vd[i] for i in below]
     v_pad = 0.08 * (max(v_vals) - min(v_vals) or 1e-12)
     q_pad = 0.08 * (q_hi - q_lo or 1e-12)
-    # The inset pays off only when the dynamic run went beyond q1 (large strains there).
+    # Inset on the strictly quasistatic range q <= q1 when the dynamic run went far beyond it;
+    # otherwise the whole plot is that range and the inset blows up its first fifth.
     zoom = max(xd + xs) > 2.0 * x_in
+    title = r"strictly quasistatic range $q \leq q_1$"
+    q_cap = q1 if zoom else q1 / 5.0
+    if not zoom:
+        title = rf"start of the quasistatic range, $q \leq {q_cap:.3g}$"
+        first = [i for i, q in enumerate(qs) if q <= q_cap * (1 + 1e-9)]
+        firstd = [i for i, q in enumerate(qd) if q <= q_cap * (1 + 1e-9)]
+        x_in = max([xs[i] for i in first] + [xd[i] for i in firstd]) * 1.08
+        v_first = [vs[i] for i in first] + [vd[i] for i in firstd]
+        v_pad = 0.08 * (max(v_first) - min(v_first) or 1e-12)
+        v_vals = v_first
+        q_lo, q_hi = 0.0, q_cap
+        q_pad = 0.08 * q_cap
     fig, axes = plt.subplots(1, 2, figsize=(11.5, 4.6))
-    curve_panel(axes[0], xs, qs, xd, qd, r"deviator ratio $q = (\sigma_2 - \sigma_1)/\sigma_1$",
-                x1, q1, (x_in, q_lo - q_pad, q_hi + q_pad) if zoom else None, True)
+    n_below = len(below)
+    curve_panel(axes[0], xs, qs, xd, qd, n_below,
+                r"deviator ratio $q = (\sigma_2 - \sigma_1)/\sigma_1$", x1, q1,
+                (x_in, q_lo - q_pad, q_hi + q_pad, title))
     axes[0].axhline(q1, color=Q1_COLOUR, ls="--", lw=0.9)
     q1_text = rf"$q_1 = {q1:.4g}$" if info["criterion"] != "none" else f"stable up to q = {q1:.4g}"
     axes[0].annotate(q1_text, xy=(1.0, q1), xycoords=("axes fraction", "data"),
@@ -109,15 +133,17 @@ def plot_curves(d, info, static, dynamic):
                          xycoords=("axes fraction", "data"), xytext=(-4, 4),
                          textcoords="offset points", ha="right", va="bottom", color="0.35",
                          fontsize=8)
-    curve_panel(axes[1], xs, vs, xd, vd, r"volumetric strain $\varepsilon_v$ (contraction > 0)",
-                x1, v1, (x_in, min(v_vals) - v_pad, max(v_vals) + v_pad) if zoom else None,
-                False)
+    curve_panel(axes[1], xs, vs, xd, vd, n_below,
+                r"volumetric strain $\varepsilon_v$ (contraction > 0)", x1, v1,
+                (x_in, min(v_vals) - v_pad, max(v_vals) + v_pad, title))
     fig.suptitle(
         f"{os.path.basename(info['sample'])}: N = {info['n_disks']}, "
         rf"$\kappa$ = {info['kappa']:.3g}, $\mu$ = {info['mu']:g}, $\Delta q$ = {info['dq']:g}"
         + (f"  ({info['criterion']} at $q_1$)" if info["criterion"] != "none"
            else "  (static run stopped while stable)"), fontsize=11)
-    fig.tight_layout()
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=8.5)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     save(fig, d, "curves")
 
 
@@ -149,7 +175,8 @@ def plot_difference(d, info, matched):
     qs = info.get("q_first_static_sliding")
     if qs is not None:
         ax.axvline(qs, color="0.5", ls=":", lw=0.9)
-        ax.annotate("first sliding contact (static)", xy=(qs, 0.02), xycoords=("data", "axes fraction"),
+        ax.annotate("first sliding contact (static)", xy=(qs, 0.02),
+                    xycoords=("data", "axes fraction"),
                     xytext=(3, 0), textcoords="offset points", fontsize=7, color="0.35",
                     rotation=90, va="bottom")
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
