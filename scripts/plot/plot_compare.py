@@ -157,11 +157,12 @@ def plot_difference(d, info, matched):
                                      column(matched, "epsilon_v_static"))]
     e2 = [abs(x) for x in column(matched, "epsilon_2_static")]
     bound = column(matched, "bound_epsilon_2")
+    dense = len(q) > 60  # small delta q: lines only
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.semilogy(q, e2, "-", color="0.6", lw=1.2, label=r"$|\varepsilon_2|$ (static), for scale")
-    ax.semilogy(q, d2, "o-", color=DYNAMIC_COLOUR, ms=3.5,
+    ax.semilogy(q, d2, "-" if dense else "o-", color=DYNAMIC_COLOUR, ms=3.5,
                 label=r"$|\varepsilon_2^{dyn} - \varepsilon_2^{stat}|$")
-    ax.semilogy(q, dv, "s-", color=STATIC_COLOUR, ms=3, mfc="none",
+    ax.semilogy(q, dv, "-" if dense else "s-", color=STATIC_COLOUR, ms=3, mfc="none",
                 label=r"$|\varepsilon_v^{dyn} - \varepsilon_v^{stat}|$")
     ax.semilogy(q, bound, "--", color="black", lw=1.0,
                 label=r"bound on $\varepsilon_2$ from the §3.1 tolerances")
