@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "common/equilibrium.hpp"
 #include "common/io/configuration_file.hpp"
+#include "common/io/json_text.hpp"
 #include "common/measurements.hpp"
 
 namespace granstab::cli {
@@ -89,32 +90,8 @@ void print_text(const InfoOptions& o, const Configuration& c, const Measurements
   out << "  in equilibrium " << (r.in_equilibrium ? "yes" : "no") << "\n";
 }
 
-// JSON numbers: shortest round-trip form; JSON has no inf/nan, so those become null.
-std::string json(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
-
-std::string json(std::string_view s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (static_cast<unsigned char>(ch) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-      out += buf;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
-
-// Without this overload a string literal would convert to bool, not to std::string_view.
+std::string json(double v) { return json_number(v); }
+std::string json(std::string_view s) { return json_string(s); }
 std::string json(const char* s) { return json(std::string_view(s)); }
 std::string json(bool b) { return b ? "true" : "false"; }
 

@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "common/atomic_file.hpp"
 #include "common/io/configuration_file.hpp"
+#include "common/io/json_text.hpp"
 #include "crosscheck.hpp"
 #include "static/q1.hpp"
 #include "static/rigid_limit.hpp"
@@ -29,23 +30,6 @@ struct Q1CommandOptions {
   statics::Q1Options q1;
 };
 
-// JSON numbers: shortest round-trip form; JSON has no inf/nan, so those become null.
-std::string json(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    if (static_cast<unsigned char>(ch) >= 0x20) out += ch;
-  }
-  return out + "\"";
-}
-
 // static_curve.csv and unstable_mode.csv: the one writer shared with `granstab compare`
 // (drivers/crosscheck.hpp).
 
@@ -56,8 +40,8 @@ std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
   s << "{\n"
     << "  \"sample\": " << json_string(o.sample) << ",\n"
     << "  \"control\": " << json_string(o.control) << ",\n"
-    << "  \"q1\": " << json(r.q1) << ",\n"
-    << "  \"q1_bracket\": [" << json(r.q1_bracket[0]) << ", " << json(r.q1_bracket[1]) << "],\n"
+    << "  \"q1\": " << json_number(r.q1) << ",\n"
+    << "  \"q1_bracket\": [" << json_number(r.q1_bracket[0]) << ", " << json_number(r.q1_bracket[1]) << "],\n"
     << "  \"criterion\": " << json_string(statics::criterion_name(r.criterion)) << ",\n"
     << "  \"detail\": " << json_string(r.detail) << ",\n"
     << "  \"n_sliding_at_q1\": " << r.sliding_at_q1.size() << ",\n"
@@ -65,11 +49,11 @@ std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
   for (std::size_t c = 0; c < r.sliding_at_q1.size(); ++c) {
     const statics::SlidingContact& k = r.sliding_at_q1[c];
     s << (c ? ", " : "") << "{\"i\": " << k.i << ", \"j\": " << k.j << ", \"k\": [" << k.k1
-      << ", " << k.k2 << "], \"f_n\": " << json(k.f_n) << ", \"f_t\": " << json(k.f_t) << "}";
+      << ", " << k.k2 << "], \"f_n\": " << json_number(k.f_n) << ", \"f_t\": " << json_number(k.f_t) << "}";
   }
   s << "],\n"
     // q_max of the frozen initial network (SPEC §4.5); null when unbounded or failed, see status.
-    << "  \"q_max_rigid\": " << json(rigid.q_max) << ",\n"
+    << "  \"q_max_rigid\": " << json_number(rigid.q_max) << ",\n"
     << "  \"q_max_rigid_status\": " << json_string(rigid.status) << ",\n"
     << "  \"n_disks\": " << config.disks.size() << ",\n"
     << "  \"n_contacts\": " << config.contacts.size() << ",\n"
@@ -80,13 +64,13 @@ std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
            list += (list.empty() ? "" : ", ") + json_string(reason) + ": " + std::to_string(count);
          return list;
        }() << "},\n"
-    << "  \"dq\": " << json(o.q1.dq) << ",\n"
-    << "  \"dq_min\": " << json(o.q1.dq_min) << ",\n"
-    << "  \"seconds_assembly\": " << json(r.timings.assembly) << ",\n"
-    << "  \"seconds_factorisation\": " << json(r.timings.factorisation) << ",\n"
-    << "  \"seconds_complementarity\": " << json(r.timings.complementarity) << ",\n"
-    << "  \"seconds_corrector\": " << json(r.timings.corrector) << ",\n"
-    << "  \"wall_seconds\": " << json(seconds) << "\n"
+    << "  \"dq\": " << json_number(o.q1.dq) << ",\n"
+    << "  \"dq_min\": " << json_number(o.q1.dq_min) << ",\n"
+    << "  \"seconds_assembly\": " << json_number(r.timings.assembly) << ",\n"
+    << "  \"seconds_factorisation\": " << json_number(r.timings.factorisation) << ",\n"
+    << "  \"seconds_complementarity\": " << json_number(r.timings.complementarity) << ",\n"
+    << "  \"seconds_corrector\": " << json_number(r.timings.corrector) << ",\n"
+    << "  \"wall_seconds\": " << json_number(seconds) << "\n"
     << "}\n";
   return s.str();
 }

@@ -232,21 +232,6 @@ CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOpt
 
 // --- outputs --------------------------------------------------------------------------------
 
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    if (static_cast<unsigned char>(ch) >= 0x20) out += ch;
-  }
-  return out + "\"";
-}
 
 std::string static_curve_csv(const statics::StabilityResult& r) {
   std::ostringstream s;

@@ -1,4 +1,5 @@
 #pragma once
+#include "common/io/json_text.hpp"
 // Cross-check of the static method and the dynamic SIC procedure (SPEC §5, STATIC.md §S4 T10):
 // both run from the same equilibrium state with the same delta q; their equilibrium curves are
 // matched at the same prescribed q and compared. No physics lives here: the static curve comes
@@ -146,7 +147,7 @@ std::string compare_json(const JsonContext& context, const CrosscheckOptions& op
                          const CrosscheckResult& result);
 
 // JSON number (shortest round trip; null for inf / nan) and string.
-std::string json_number(double v);
-std::string json_string(const std::string& s);
+using granstab::json_number;
+using granstab::json_string;
 
 }  // namespace granstab::crosscheck

@@ -8,30 +8,6 @@
 
 namespace granstab::protocols {
 
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";  // JSON has no inf / nan
-  char buf[32];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
-}
-
-std::string json_string(std::string_view s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (static_cast<unsigned char>(ch) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-      out += buf;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
-
 JsonObject& JsonObject::add(std::string_view key, double value) {
   members_.emplace_back(key, json_number(value));
   return *this;

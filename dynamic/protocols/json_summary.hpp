@@ -1,4 +1,5 @@
 #pragma once
+#include "common/io/json_text.hpp"
 // The JSON summary every protocol writes beside its CSV (issue #4): an ordered object of
 // numbers (shortest round-trip decimals; non-finite -> null), strings, booleans, arrays and
 // nested objects, written atomically.
@@ -33,8 +34,8 @@ class JsonObject {
   std::vector<std::pair<std::string, std::string>> members_;  // key, encoded value
 };
 
-std::string json_number(double v);
-std::string json_string(std::string_view s);
+using granstab::json_number;
+using granstab::json_string;
 
 // SPEC §2 quantities of a state, and the §3.1 residuals with their tolerances.
 JsonObject measurements_json(const Measurements& m);
