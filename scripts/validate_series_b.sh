@@ -3,11 +3,15 @@
 # of ctest. Prepares series B samples (periodic, mu_prep = 0.15, K_T/K_N = 1, zeta = 1, N = 1400)
 # at each kappa and seed, tabulates Phi, z, x0 (mean ± standard deviation over seeds) beside
 # SPEC Table 1, then runs an SRC test (kappa = 1e4, gamma = 1e-4, to epsilon_2 = 0.02) and an
-# SIC test (delta q = 0.01) on the first kappa = 1e4 sample, mu = 0.5.
+# SIC test (delta q = 0.01, to failure) on the first kappa = 1e4 sample, mu = 0.5.
+# Compaction schedule: the recommended one (data/configs/series-b-n1400-k1e4-sr.toml: strain rate
+# 0.01 until the mean stress reaches P, then stress control); STRAIN_RATE=0 gives the literal
+# stress-control schedule of the shipped sample (series-b-n1400-k1e4.toml).
 #
 #   scripts/validate_series_b.sh [OUTDIR]            (default OUTDIR: validation-out)
 # Environment: KAPPAS (default "1e3 1e4 1e5"), SEEDS ("1 2 3"), N (1400), GAMMA (1e-4),
-#   EPS2_MAX (0.02), DELTA_Q (0.01), SKIP_BIAXIAL=1 to stop after Table 1,
+#   EPS2_MAX (0.02), DELTA_Q (0.01), SKIP_BIAXIAL=1 to stop after Table 1, STRAIN_RATE (0.01;
+#   compaction.strain_rate, 0 = stress control from the gas),
 #   BUILD_DIR (build), OMP_NUM_THREADS (1: one thread is the fastest on a loaded 2-core box).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -16,6 +20,10 @@ granstab="${BUILD_DIR:-$root/build}/drivers/granstab"
 kappas=${KAPPAS:-"1e3 1e4 1e5"}
 seeds=${SEEDS:-"1 2 3"}
 n=${N:-1400}
+strain_rate=${STRAIN_RATE:-0.01}
+config="$root/data/configs/series-b-n1400-k1e4-sr.toml"
+tag="-sr$strain_rate"
+[ "$strain_rate" = 0 ] && tag=""
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 python=/usr/bin/python3
 mkdir -p "$out"
@@ -23,21 +31,21 @@ mkdir -p "$out"
 
 json_field() { "$python" -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$1" "$2"; }
 
-echo "# series B preparation, N = $n" | tee "$out/table1.txt"
+echo "# series B preparation, N = $n, compaction.strain_rate = $strain_rate" | tee "$out/table1.txt"
 for kappa in $kappas; do
   for seed in $seeds; do
-    name="b-n$n-k$kappa-s$seed"
+    name="b-n$n-k$kappa-s$seed$tag"
     if [ ! -f "$out/$name.json" ]; then
-      "$granstab" prepare --quiet "$root/data/configs/series-b-n1400-k1e4.toml" \
+      "$granstab" prepare --quiet "$config" --set compaction.strain_rate="$strain_rate" \
         --set sample.n="$n" --set material.kappa="$kappa" --set sample.seed="$seed" \
         --set output.sample="\"$out/$name.granstab\"" --set output.summary="\"$out/$name.json\""
     fi
     echo "$kappa $seed $(json_field "$out/$name.json" phi) $(json_field "$out/$name.json" z)" \
          "$(json_field "$out/$name.json" x0) $(json_field "$out/$name.json" steps)" \
-         "$(json_field "$out/$name.json" wall_seconds)" >> "$out/prepare.dat"
+         "$(json_field "$out/$name.json" wall_seconds)" >> "$out/prepare$tag.dat"
   done
 done
-"$python" - "$out/prepare.dat" <<'PY' | tee -a "$out/table1.txt"
+"$python" - "$out/prepare$tag.dat" <<'PY' | tee -a "$out/table1.txt"
 import statistics as st, sys
 ref = {"1e5": ("0.8226 ± 0.0008", "3.59 ± 0.02", "10.0 ± 0.5"),
        "1e4": ("0.8230 ± 0.0008", "3.64 ± 0.02", "9.0 ± 0.6"),
@@ -60,8 +68,8 @@ PY
 
 [ "${SKIP_BIAXIAL:-0}" = 1 ] && exit 0
 first_seed=${seeds%% *}
-sample="$out/b-n$n-k1e4-s$first_seed.granstab"
-[ -f "$sample" ] || "$granstab" prepare --quiet "$root/data/configs/series-b-n1400-k1e4.toml" \
+sample="$out/b-n$n-k1e4-s$first_seed$tag.granstab"
+[ -f "$sample" ] || "$granstab" prepare --quiet "$config" --set compaction.strain_rate="$strain_rate" \
   --set sample.n="$n" --set sample.seed="$first_seed" \
   --set output.sample="\"$sample\"" --set output.summary="\"${sample%.granstab}.json\""
 cat > "$out/src.toml" <<TOML
