@@ -133,6 +133,7 @@ ForceInputs Engine::force_inputs(double dt_tangential, bool mid_step) const {
   }
   in.vx_viscous = mid_step ? disks_.vpx.data() : disks_.vx.data();
   in.vy_viscous = mid_step ? disks_.vpy.data() : disks_.vy.data();
+  in.parallel = parallel();
   return in;
 }
 
@@ -161,11 +162,13 @@ void Engine::refresh_viscous_forces() {
 // predicted velocities and then refreshed with the final ones so that the cached forces are a
 // function of the synchronous state (docs/dynamic.md).
 void Engine::step() {
-  dynamic::kick_drift(disks_, cell_, stage_, dt_, neighbours_);
+  dynamic::kick_drift(disks_, cell_, stage_, dt_, neighbours_, parallel());
   neighbours_.update(disks_, cell_, pairs_, material_);
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(dt_, true), blocks_);
+  dynamic::ForceInputs in = force_inputs(dt_, true);
+  in.half_kick = 0.5 * dt_;  // the disks' second half kick, fused with their force sums
+  sums_ = dynamic::compute_contact_forces(disks_, pairs_, in, blocks_);
   control_cell();
-  dynamic::kick(disks_, cell_, stage_, dt_);
+  dynamic::kick_cell(cell_, stage_, dt_);
   refresh_viscous_forces();
   ++step_;
   time_ += dt_;
@@ -294,6 +297,11 @@ Engine::Tensor Engine::stress() const {
   const double area = cell_.length[0] * cell_.length[1];
   return {{{sums_.sigma[0] / area, sums_.sigma[1] / area},
            {sums_.sigma[2] / area, sums_.sigma[3] / area}}};
+}
+
+std::array<double, 2> Engine::viscous_stress() const {
+  const double area = cell_.length[0] * cell_.length[1];
+  return {sums_.sigma_viscous[0] / area, sums_.sigma_viscous[1] / area};
 }
 
 double Engine::controlled_stress(int axis) const {

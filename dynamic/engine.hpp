@@ -29,6 +29,11 @@ struct EngineOptions {
   // docs/dynamic.md: they vanish at equilibrium; without them the cell's own oscillation is
   // only damped through the disks' non-affine motion). Measured stresses never include them.
   bool viscous_forces_drive_cell = true;
+  // Samples with fewer disks run every loop on the calling thread whatever OMP_NUM_THREADS says:
+  // below this size a step is too short for the synchronisation of a thread team to pay off
+  // (and on a loaded machine, waiting for a descheduled thread costs whole time slices). The
+  // results are the same bits either way (docs/dynamic.md, "Determinism"; bench/README.md).
+  std::size_t parallel_min_disks = 4096;
 };
 
 class Engine {
@@ -77,6 +82,9 @@ class Engine {
   // --- measurements at the current (synchronous) state --------------------------------------
   std::size_t size() const { return disks_.size(); }
   Tensor stress() const;  // elastic + frictional contact forces only (SPEC §2)
+  // Diagonal of the same sum over the viscous contact forces (not part of any measured stress;
+  // for comparisons with codes whose virial includes damping, bench/compare_lammps).
+  std::array<double, 2> viscous_stress() const;
   // The stress component a as the control sees it: Cauchy sigma_aa, or for the nominal
   // measure the force on the side normal to a divided by that side's reference length.
   double controlled_stress(int axis) const;
@@ -103,6 +111,7 @@ class Engine {
   std::uint64_t neighbour_rebuilds() const { return neighbours_.rebuild_count(); }
 
  private:
+  bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
   void evaluate_state();  // forces and cell acceleration of the current state (no increment)
   bool apply_stage(const Stage& stage);
   void control_cell();

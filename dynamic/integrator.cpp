@@ -8,7 +8,7 @@
 namespace granstab::dynamic {
 
 void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
-                NeighbourList& neighbours) {
+                NeighbourList& neighbours, bool parallel) {
   const double half = 0.5 * dt;
   std::array<double, 2> lambda{1.0, 1.0};
   for (int a = 0; a < 2; ++a) {
@@ -32,7 +32,7 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   const double* ref_y = neighbours.reference_y().data();
   const int n = static_cast<int>(d.size());
   double max_d2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_d2)
+#pragma omp parallel for schedule(static) reduction(max : max_d2) if (parallel)
   for (int i = 0; i < n; ++i) {
     const double ax = (d.fx[i] + d.fvx[i]) * d.inv_mass[i];
     const double ay = (d.fy[i] + d.fvy[i]) * d.inv_mass[i];
@@ -62,19 +62,11 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   neighbours.set_max_displacement_squared(max_d2);
 }
 
-void kick(DiskArrays& d, CellState& cell, const Stage& stage, double dt) {
-  const double half = 0.5 * dt;
+void kick_cell(CellState& cell, const Stage& stage, double dt) {
   for (int a = 0; a < 2; ++a) {
     if (stage.control[a] == LengthControl::stress) {
-      cell.length_rate[a] += half * cell.length_acceleration[a];
+      cell.length_rate[a] += 0.5 * dt * cell.length_acceleration[a];
     }
-  }
-  const int n = static_cast<int>(d.size());
-#pragma omp parallel for schedule(static)
-  for (int i = 0; i < n; ++i) {
-    d.vx[i] += half * (d.fx[i] + d.fvx[i]) * d.inv_mass[i];
-    d.vy[i] += half * (d.fy[i] + d.fvy[i]) * d.inv_mass[i];
-    d.omega[i] += half * d.torque[i] * d.inv_inertia[i];
   }
 }
 

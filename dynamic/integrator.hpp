@@ -12,11 +12,14 @@ namespace granstab::dynamic {
 // lambda_a = L_a(t + dt) / L_a(t) the affine part in a periodic cell (walls: lambda = 1).
 // Also predicts the end-of-step velocities for the viscous force (vpx, vpy, rate_predicted) and
 // reports the largest non-affine displacement since the last list build to the list.
+// parallel: on the OpenMP team (false: on the calling thread; same bits).
 void kick_drift(DiskArrays& disks, CellState& cell, const Stage& stage, double dt,
-                NeighbourList& neighbours);
+                NeighbourList& neighbours, bool parallel);
 
-// v(t + dt) = v(t + dt/2) + dt/2 a(t + dt), same for omega and dL/dt.
-void kick(DiskArrays& disks, CellState& cell, const Stage& stage, double dt);
+// The second half kick of the stress-controlled cell lengths / walls:
+// dL/dt(t + dt) = dL/dt(t + dt/2) + dt/2 d2L/dt2(t + dt). The disks get theirs in the force
+// pass (ForceInputs::half_kick), right after their force sums.
+void kick_cell(CellState& cell, const Stage& stage, double dt);
 
 // Brings x into [0, length) after a drift (displacements per step are far below a length).
 inline double wrap(double x, double length) {

@@ -21,12 +21,21 @@ Configuration gas(Boundary boundary = Boundary::periodic) {
   return c;
 }
 
-Configuration run(const Configuration& start, int threads, int steps, int split = 0) {
+// parallel_min_disks = 0: the team runs every loop even for these 400 disks (the default
+// threshold would run them on one thread, which would make the thread-count tests vacuous).
+EngineOptions team_options(std::size_t parallel_min_disks = 0) {
+  EngineOptions o;
+  o.parallel_min_disks = parallel_min_disks;
+  return o;
+}
+
+Configuration run(const Configuration& start, int threads, int steps, int split = 0,
+                  const EngineOptions& options = team_options()) {
   omp_set_num_threads(threads);
-  Engine e(start);
+  Engine e(start, options);
   if (split > 0) {
     e.run(split);
-    Engine resumed(e.configuration());
+    Engine resumed(e.configuration(), options);
     resumed.run(steps - split);
     return resumed.configuration();
   }
@@ -70,6 +79,15 @@ TEST(Determinism, SameThreadCountSameBits) {
 TEST(Determinism, OneAndTwoThreadsAgree) {
   const Configuration start = gas();
   expect_identical(run(start, 1, 1500), run(start, 2, 1500));
+}
+
+// Below EngineOptions::parallel_min_disks the loops run on the calling thread: same bits as the
+// team (the default threshold, 4096, is above these 400 disks).
+TEST(Determinism, ParallelThresholdDoesNotChangeBits) {
+  const Configuration start = gas();
+  ASSERT_LT(start.disks.size(), EngineOptions{}.parallel_min_disks);
+  expect_identical(run(start, 2, 1500, 0, team_options()),
+                   run(start, 2, 1500, 0, EngineOptions{}));
 }
 
 // One thread: the thread count is irrelevant to the bits (above), and 2 threads on a loaded
