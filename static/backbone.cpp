@@ -122,6 +122,22 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
     }
     if (free) keep[m.theta[root]] = 0;
   }
+  // A disk whose contacts are all open under these statuses (e.g. a two-contact disk whose forces
+  // tend to 0 and open together) becomes a rattler inside the step: its rows and columns hold only
+  // the geometric terms of its vanishing start forces, so K would be singular on it. Its dofs are
+  // dropped; the predictor's check of the dropped rows (misfit ~ F_N |dq| / d) still rejects the
+  // set if those forces are not small.
+  std::vector<int> closed(n, 0);
+  for (std::size_t c = 0; c < states.size(); ++c) {
+    if (statuses[c] == ContactStatus::open) continue;
+    ++closed[net.contacts.i[c]];
+    if (!states[c].wall) ++closed[net.contacts.j[c]];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (closed[i] > 0) continue;
+    for (const int d : {m.ux[i], m.uy[i], m.theta[i]})
+      if (d >= 0) keep[d] = 0;
+  }
   return keep;
 }
 
