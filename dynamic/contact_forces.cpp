@@ -108,7 +108,7 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
       }
       out = {0.0, 0.0, share * out.fvx, share * out.fvy, 0.0, 0.0};
       pairs.delta_t[p] = 0.0;
-      pairs.f_n[p] = pairs.f_t[p] = 0.0;
+      pairs.f_n[p] = 0.0;
       pairs.active[--next_opened] = p;
       continue;
     }
@@ -127,7 +127,6 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
         apply_law(mat, mat.mu, pairs.alpha[p], f.h, h_rate, pairs.delta_t[p], in.dt, rate);
     pairs.delta_t[p] = c.delta_t;
     pairs.f_n[p] = c.f_n;
-    pairs.f_t[p] = c.f_t;
     pairs.nx[p] = f.nx;
     pairs.ny[p] = f.ny;
     pairs.lx[p] = dx;

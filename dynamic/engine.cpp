@@ -409,7 +409,7 @@ void Engine::export_to(Configuration& out) const {
       k2 = minimum_image_shift(disks_.y[j] - disks_.y[i], cell_.length[1]);
     }
     out.contacts.add(i, j, k1, k2, pairs_.delta_t[p],
-                     status(pairs_.f_t[p], pairs_.f_n[p], material_.mu));
+                     status(-material_.k_t * pairs_.delta_t[p], pairs_.f_n[p], material_.mu));
   }
   if (!cell_.periodic()) {
     const Cell c = cell_.cell();

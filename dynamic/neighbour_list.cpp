@@ -88,7 +88,7 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
     pairs.alpha[p] = material.damping_coefficient(disks.mass[pairs.i[p]], disks.mass[pairs.j[p]]);
   }
   pairs.active.resize(m);
-  for (auto* v : {&pairs.nx, &pairs.ny, &pairs.lx, &pairs.ly, &pairs.f_t}) {
+  for (auto* v : {&pairs.nx, &pairs.ny, &pairs.lx, &pairs.ly}) {
     v->assign(m, 0.0);
   }
 

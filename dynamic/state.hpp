@@ -45,7 +45,8 @@ struct PairArrays {
     double torque_i, torque_j;
   };
   std::vector<Force> force;
-  std::vector<double> nx, ny, lx, ly, f_n, f_t;
+  // Frame and elastic normal force of the last force pass (F_T of a state is -K_T delta_t).
+  std::vector<double> nx, ny, lx, ly, f_n;
   // Per reduction block: its closed pairs from the start of its pair range in `active`, the
   // pairs that opened during the step from the end (written by the force pass).
   std::vector<std::int32_t> active, block_closed, block_opened;
