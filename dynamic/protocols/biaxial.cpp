@@ -1,5 +1,6 @@
 #include "biaxial.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -23,17 +24,30 @@ double deviator_ratio(const Engine& engine) {
 
 StrainRateResult run_strain_rate(Engine& engine, const StrainRateOptions& options,
                                  double epsilon_2_end, double pressure, Configuration& state,
-                                 const StateObserver& on_record, const StepCondition& stop_when) {
+                                 const StateObserver& on_record, const StepCondition& stop_when,
+                                 const LoopControl& control) {
   if (!(options.gamma > 0.0)) throw std::invalid_argument("SRC: gamma must be > 0");
   if (!(options.record_interval > 0.0)) {
     throw std::invalid_argument("SRC: record interval must be > 0");
   }
-  engine.set_stress_control(0, pressure);
-  // Units: sqrt(P/m) = sqrt(pressure) with m = 1.
-  engine.set_strain_rate_control(1, options.gamma * std::sqrt(pressure));
   StrainRateResult result;
-  double next = (std::floor(axial_strain(engine) / options.record_interval) + 1.0) *
-                options.record_interval;
+  Cursor cursor = control.cursor;
+  double next = 0.0;
+  if (control.resume) {
+    // The stage is already the SRC one; `next` is not recomputed from the strain, whose
+    // floor could round differently just below a multiple of the interval.
+    result.steps = cursor.steps;
+    next = cursor.next_record;
+  } else {
+    engine.set_stress_control(0, pressure);
+    // Units: sqrt(P/m) = sqrt(pressure) with m = 1.
+    engine.set_strain_rate_control(1, options.gamma * std::sqrt(pressure));
+    next = (std::floor(axial_strain(engine) / options.record_interval) + 1.0) *
+           options.record_interval;
+    cursor.steps = 0;
+    cursor.next_record = next;
+    control.safe_point(engine, cursor);  // the start: a last sane state before any step
+  }
   while (axial_strain(engine) < epsilon_2_end) {
     engine.step();
     ++result.steps;
@@ -44,12 +58,16 @@ StrainRateResult run_strain_rate(Engine& engine, const StrainRateOptions& option
     const double epsilon_2 = axial_strain(engine);
     if (epsilon_2 >= next || epsilon_2 >= epsilon_2_end) {
       next = (std::floor(epsilon_2 / options.record_interval) + 1.0) * options.record_interval;
+      control.check(engine);
       engine.export_to(state);
       if (on_record && !on_record(engine, state)) {
         result.stopped = epsilon_2 < epsilon_2_end;
         return result;
       }
     }
+    cursor.steps = result.steps;
+    cursor.next_record = next;
+    control.safe_point(engine, cursor);
   }
   return result;
 }
@@ -58,14 +76,22 @@ StressStepResult run_stress_steps(
     Engine& engine, const StressStepOptions& options, double pressure, Configuration& state,
     const std::function<void(const Engine&, const Configuration&, const StressStepRecord&)>&
         on_equilibrium,
-    const EquilibrationObserver& progress) {
+    const EquilibrationObserver& progress, const LoopControl& control) {
   if (!(options.delta_q > 0.0)) throw std::invalid_argument("SIC: delta_q must be > 0");
   StressStepResult result;
   const auto observer = [&](const Engine& e, const Configuration& s, const EquilibriumReport& r) {
     if (progress && !progress(e, s, r)) return false;
     return axial_strain(e) <= options.epsilon_2_max;
   };
-  for (int k = 0;; ++k) {
+  int k = 0;
+  if (control.resume) {
+    k = static_cast<int>(control.cursor.index);
+    result.steps = control.cursor.done_steps;
+    // Only increments that reached equilibrium lead to the next one.
+    result.increments = std::max(0, k - 1);
+  }
+  for (;; ++k) {
+    const bool resumed = control.resume && k == control.cursor.index;
     StressStepRecord record;
     // q_k from k, not by accumulation, so that round-off does not drift the targets.
     record.q_target = k * options.delta_q;
@@ -73,9 +99,16 @@ StressStepResult run_stress_steps(
       result.stop_reason = "q_max";
       return result;
     }
-    engine.set_stress_control(0, pressure);
-    engine.set_stress_control(1, pressure * (1.0 + record.q_target));
-    record.equilibrium = run_to_equilibrium(engine, options.equilibration, state, observer);
+    if (!resumed) {
+      engine.set_stress_control(0, pressure);
+      engine.set_stress_control(1, pressure * (1.0 + record.q_target));
+    }
+    LoopControl wait{control.hooks, resumed ? control.cursor : Cursor{}, resumed};
+    wait.cursor.phase = control.cursor.phase;
+    wait.cursor.index = k;
+    wait.cursor.done_steps = result.steps;
+    record.equilibrium =
+        run_to_equilibrium(engine, options.equilibration, state, observer, {}, {}, wait);
     record.steps = record.equilibrium.steps;
     result.steps += record.steps;
     if (on_equilibrium) on_equilibrium(engine, state, record);

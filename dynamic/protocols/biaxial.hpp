@@ -39,10 +39,16 @@ struct StrainRateResult {
 // Imposes d epsilon_2 / dt = gamma (times sqrt(P/m) = 1) with sigma_1 held, from the current
 // state until epsilon_2 >= epsilon_2_end. on_record sees the first state at or beyond each
 // multiple of record_interval, and the final state.
+//
+// Safe points (control.hooks): after every step that does not end the run, past its record if
+// any, with control.cursor's steps = steps of this call and next_record = the strain of the next
+// record. control.resume continues from there (the engine's stage is already the SRC one).
+// control.check sees every state before on_record.
 StrainRateResult run_strain_rate(Engine& engine, const StrainRateOptions& options,
                                  double epsilon_2_end, double pressure, Configuration& state,
                                  const StateObserver& on_record,
-                                 const StepCondition& stop_when = {});
+                                 const StepCondition& stop_when = {},
+                                 const LoopControl& control = {});
 
 // --- SIC --------------------------------------------------------------------------------------
 struct StressStepOptions {
@@ -70,10 +76,14 @@ struct StressStepResult {
 // sigma_2 = P (1 + q) with q = k delta_q, k = 1, 2, ..., and waits for equilibrium after each
 // step. on_equilibrium sees every recorded equilibrium state (and the last, failed one, whose
 // record has equilibrium.reached = false); progress sees every check.
+//
+// Safe points (control.hooks): those of each wait (run_to_equilibrium), with control.cursor's
+// index = k and done_steps = the steps of the increments before k. control.resume continues that
+// wait.
 StressStepResult run_stress_steps(
     Engine& engine, const StressStepOptions& options, double pressure, Configuration& state,
     const std::function<void(const Engine&, const Configuration&, const StressStepRecord&)>&
         on_equilibrium,
-    const EquilibrationObserver& progress = {});
+    const EquilibrationObserver& progress = {}, const LoopControl& control = {});
 
 }  // namespace granstab::protocols

@@ -27,8 +27,13 @@ struct CompactionResult {
 // Drives `engine` (whatever its stage) through the compaction; `state` receives the final
 // configuration, whose stage is isotropic stress control at P with the final lengths as the
 // reference lengths L_a0 (the start of any later biaxial stage).
+//
+// Safe points (control.hooks, docs/reliability.md): cursor.phase 0 after every strain-rate step
+// (steps = strain-rate steps so far), phase 1 after every check of the wait for equilibrium
+// (done_steps = strain-rate steps, steps = steps of the wait). control.resume continues there.
 CompactionResult compact_isotropically(Engine& engine, const CompactionOptions& options,
                                        Configuration& state,
-                                       const EquilibrationObserver& observer = {});
+                                       const EquilibrationObserver& observer = {},
+                                       const LoopControl& control = {});
 
 }  // namespace granstab::protocols

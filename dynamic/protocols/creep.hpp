@@ -23,8 +23,11 @@ struct CreepResult {
 
 // Holds sigma_1 = P and sigma_2 = P (1 + q_hold) under stress control from the engine's current
 // state until equilibrium (SPEC §3.1). observer sees every check.
+// Safe points: those of the wait, with control.cursor.values = {epsilon_2, epsilon_v at the
+// switch}; control.resume continues the wait.
 CreepResult hold_deviator(Engine& engine, double q_hold, double pressure,
                           const CreepOptions& options, Configuration& state,
-                          const EquilibrationObserver& observer = {});
+                          const EquilibrationObserver& observer = {},
+                          const LoopControl& control = {});
 
 }  // namespace granstab::protocols

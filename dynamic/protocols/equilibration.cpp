@@ -45,24 +45,41 @@ EquilibrationResult run_to_equilibrium(Engine& engine, const EquilibrationOption
                                        Configuration& state,
                                        const EquilibrationObserver& observer,
                                        std::span<const double> external_fx,
-                                       std::span<const double> external_fy) {
+                                       std::span<const double> external_fy,
+                                       const LoopControl& control) {
   if (options.check_interval == 0) {
     throw std::invalid_argument("equilibrium.check_interval must be >= 1");
   }
   EquilibrationResult result;
+  Cursor cursor = control.cursor;
+  // A resumed wait continues after a check that its observer saw and that let it go on.
+  bool checked = control.resume;
+  if (checked) result.steps = cursor.steps;
   for (;;) {
-    engine.export_to(state);
-    result.report = check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
-    const bool go_on = !observer || observer(engine, state, result.report);
-    if (result.report.in_equilibrium) {
-      result.reached = true;
+    if (!checked) {
+      control.check(engine);
+      engine.export_to(state);
+      result.report =
+          check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
+      const bool go_on = !observer || observer(engine, state, result.report);
+      if (result.report.in_equilibrium) {
+        result.reached = true;
+        return result;
+      }
+      if (!go_on) {
+        result.aborted = true;
+        return result;
+      }
+      if (result.steps >= options.max_steps) return result;
+      cursor.steps = result.steps;
+      control.safe_point(engine, cursor);
+    } else if (result.steps >= options.max_steps) {
+      engine.export_to(state);
+      result.report =
+          check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
       return result;
     }
-    if (!go_on) {
-      result.aborted = true;
-      return result;
-    }
-    if (result.steps >= options.max_steps) return result;
+    checked = false;
     const std::uint64_t chunk = std::min(options.check_interval, options.max_steps - result.steps);
     engine.run(chunk);
     result.steps += chunk;

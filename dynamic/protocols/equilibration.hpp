@@ -9,6 +9,7 @@
 #include "common/configuration.hpp"
 #include "common/equilibrium.hpp"
 #include "dynamic/engine.hpp"
+#include "loop_hooks.hpp"
 
 namespace granstab::protocols {
 
@@ -38,7 +39,12 @@ EquilibrationResult run_to_equilibrium(Engine& engine, const EquilibrationOption
                                        Configuration& state,
                                        const EquilibrationObserver& observer = {},
                                        std::span<const double> external_fx = {},
-                                       std::span<const double> external_fy = {});
+                                       std::span<const double> external_fy = {},
+                                       const LoopControl& control = {});
+// Safe points (control.hooks): after every check that neither ended nor aborted the wait, with
+// control.cursor whose steps are the steps of this wait so far. A resumed wait (control.resume)
+// continues after that check: it steps first, within the budget max_steps - cursor.steps.
+// control.check sees every state before it is checked.
 
 // The SPEC §3.1 check of a state loaded by constant external forces on the disks (besides the
 // contacts): common/equilibrium.hpp for torques and stresses, and the force test on the net

@@ -31,10 +31,17 @@ struct PerturbationRecord {
 
 // The engine's stage must be what the perturbations are applied under (stress control on both
 // axes for SPEC §3.5). Returns false from on_record to stop early.
+//
+// Safe points: those of each wait, with control.cursor.index = the draw, phase = 1 (loaded) or 2
+// (released), rng_state = the generator before the draw, values = the record so far
+// (epsilon_2_before, epsilon_v_before, delta_epsilon_2, delta_epsilon_v, loaded steps, reached,
+// aborted) and report = the loaded wait's report. control.resume continues that wait: the
+// generator is set back and the draw repeated, which gives the same forces and generator state.
 void run_perturbations(Engine& engine, const PerturbationOptions& options, std::mt19937_64& rng,
                        Configuration& state,
                        const std::function<bool(const Engine&, const Configuration&,
                                                 const PerturbationRecord&)>& on_record,
-                       const EquilibrationObserver& observer = {});
+                       const EquilibrationObserver& observer = {},
+                       const LoopControl& control = {});
 
 }  // namespace granstab::protocols

@@ -23,6 +23,12 @@ class SnapshotWriter {
   void maybe_write(const Configuration& state, std::uint64_t step);
   void write_final(const Configuration& state);
   std::size_t written() const { return written_; }
+  // For checkpoints: the step before which no periodic snapshot is due (none: the next check).
+  std::optional<std::uint64_t> next_step() const { return next_; }
+  void restore(std::optional<std::uint64_t> next_step, std::size_t written) {
+    next_ = next_step;
+    written_ = written;
+  }
 
  private:
   SnapshotSettings settings_;
