@@ -3,6 +3,7 @@
 // every SPEC §2 quantity, a JSON summary, the final state and states at chosen strains / q.
 // Settings: docs/protocols.md.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "resumable.hpp"
 #include "common/io/configuration_file.hpp"
 #include "common/io/csv_writer.hpp"
 #include "common/measurements.hpp"
@@ -46,10 +48,11 @@ struct BiaxialSettings {
   double save_every = 0.0;
   std::filesystem::path save_prefix;
   protocols::SnapshotSettings snapshots;
+  protocols::GuardSettings guard;
 };
 
-BiaxialSettings read_settings(const BiaxialOptions& o) {
-  RunConfig rc = RunConfig::from_file(o.settings, o.overrides);
+BiaxialSettings read_settings(const protocols::Invocation& invocation) {
+  RunConfig rc = invocation.settings_config();
   BiaxialSettings s;
   s.input = protocols::existing_file(rc, "input.sample");
   s.sample = read_configuration(s.input);
@@ -76,6 +79,8 @@ BiaxialSettings read_settings(const BiaxialOptions& o) {
   s.save_every = rc.number("output.save_every", 0.0, 0.0, 100.0);
   s.save_prefix = rc.path("output.save_prefix").value_or(std::filesystem::path(s.csv).replace_extension(""));
   s.snapshots = protocols::read_snapshot_settings(rc);
+  s.guard = protocols::read_guard_settings(
+      rc, std::filesystem::path(s.csv).replace_extension(".checkpoint"));
   rc.finish();
   return s;
 }
@@ -88,12 +93,40 @@ std::filesystem::path saved_state_name(const std::filesystem::path& prefix, cons
   return prefix.string() + buf;
 }
 
-void run_biaxial(const BiaxialOptions& o) {
-  const BiaxialSettings s = read_settings(o);  // every settings error comes before any output
-  constexpr double pressure = 1.0;             // units: P = 1
-  Engine engine(s.sample, s.engine);
-  protocols::begin_biaxial_stage(engine, s.material, pressure);
-  engine.set_measure(s.measure);
+// Saved state names are kept one a line in checkpoints.
+std::string join_lines(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += n + "\n";
+  return out;
+}
+
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> names;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    const std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) break;
+    names.push_back(text.substr(pos, end - pos));
+    pos = end + 1;
+  }
+  return names;
+}
+
+}  // namespace
+
+void run_biaxial(const protocols::Invocation& invocation, bool quiet,
+                 const protocols::Checkpoint* checkpoint) {
+  const BiaxialSettings s = read_settings(invocation);  // settings errors come before any output
+  constexpr double pressure = 1.0;                      // units: P = 1
+  const std::string input_checksum = protocols::file_checksum(s.input);
+  if (checkpoint) require_same_input(*checkpoint, s.input.string(), input_checksum);
+  const auto started = std::chrono::steady_clock::now();
+  const double wall_before = checkpoint ? checkpoint->number("run.wall_seconds") : 0.0;
+  Engine engine(checkpoint ? checkpoint->configuration("engine") : s.sample, s.engine);
+  if (!checkpoint) {
+    protocols::begin_biaxial_stage(engine, s.material, pressure);
+    engine.set_measure(s.measure);
+  }
 
   std::vector<std::string> columns = protocols::state_columns();
   if (!s.strain_rate) {
@@ -107,9 +140,42 @@ void run_biaxial(const BiaxialOptions& o) {
   std::vector<std::string> saved;
   double next_save = s.save_every;
   double largest_sigma_1_error = 0.0, largest_x_s = 0.0;
+  protocols::LoopControl control;
+  if (checkpoint) {
+    protocols::restore_csv(csv, checkpoint->count("output.csv.bytes"));
+    snapshots.restore(checkpoint->has("output.vtk.next")
+                          ? std::optional(checkpoint->count("output.vtk.next"))
+                          : std::nullopt,
+                      checkpoint->count("output.vtk.written"));
+    saved = split_lines(checkpoint->text("biaxial.saved"));
+    next_save = checkpoint->number("biaxial.next_save");
+    largest_sigma_1_error = checkpoint->number("biaxial.largest_sigma_1_error");
+    largest_x_s = checkpoint->number("biaxial.largest_x_s");
+    control.cursor = protocols::get_cursor(*checkpoint);
+    control.resume = true;
+  }
+  protocols::RunGuard guard(s.guard, s.strain_rate ? "biaxial SRC" : "biaxial SIC");
+  const auto build = [&](const Engine& e, const protocols::Cursor& cursor) {
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    protocols::Checkpoint c =
+        checkpoint_head(invocation, e, cursor, input_checksum, wall_before + elapsed);
+    c.set_count("output.csv.bytes", csv.text().size());
+    if (snapshots.next_step()) c.set_count("output.vtk.next", *snapshots.next_step());
+    c.set_count("output.vtk.written", snapshots.written());
+    c.set("biaxial.saved", join_lines(saved));
+    c.set_number("biaxial.next_save", next_save);
+    c.set_number("biaxial.largest_sigma_1_error", largest_sigma_1_error);
+    c.set_number("biaxial.largest_x_s", largest_x_s);
+    return c;
+  };
+  guard.on_write([&] { csv.flush(); });
+  control.hooks = guard_hooks(guard, build);
   Configuration state;
   protocols::JsonObject summary;
-  summary.add("command", "biaxial").add("settings", o.settings).add("input", s.input.string());
+  summary.add("command", "biaxial")
+      .add("settings", invocation.settings)
+      .add("input", s.input.string());
   protocols::JsonObject material;
   material.add("kappa", s.material.kappa())
       .add("kt_over_kn", s.material.kt_over_kn())
@@ -122,7 +188,7 @@ void run_biaxial(const BiaxialOptions& o) {
   double wall_seconds = 0.0;
 
   if (s.strain_rate) {
-    Progress progress("biaxial SRC", s.epsilon_2_max, !o.quiet);
+    Progress progress("biaxial SRC", s.epsilon_2_max, !quiet);
     engine.export_to(state);
     const auto record = [&](const Engine& e, const Configuration& st) {
       const Measurements m = measure(st);
@@ -140,11 +206,11 @@ void run_biaxial(const BiaxialOptions& o) {
       progress.update(m.epsilon_2, detail);
       return true;
     };
-    record(engine, state);
+    if (!checkpoint) record(engine, state);  // a resumed CSV has the first row already
     const auto result = protocols::run_strain_rate(engine, s.src, s.epsilon_2_max, pressure,
-                                                   state, record);
+                                                   state, record, {}, control);
     stop_reason = result.stopped ? "stopped" : "epsilon_2_max";
-    wall_seconds = progress.elapsed_seconds();
+    wall_seconds = wall_before + progress.elapsed_seconds();
     progress.finish();
     summary.add("control", "strain-rate")
         .add("gamma", s.src.gamma)
@@ -152,7 +218,7 @@ void run_biaxial(const BiaxialOptions& o) {
         .add("record_interval", s.src.record_interval)
         .add("largest_sigma_1_error", largest_sigma_1_error);
   } else {
-    Progress progress("biaxial SIC", s.sic.q_max, !o.quiet);
+    Progress progress("biaxial SIC", s.sic.q_max, !quiet);
     const auto on_equilibrium = [&](const Engine& e, const Configuration& st,
                                     const protocols::StressStepRecord& r) {
       const Measurements m = measure(st);
@@ -180,9 +246,10 @@ void run_biaxial(const BiaxialOptions& o) {
       return true;
     };
     const auto result =
-        protocols::run_stress_steps(engine, s.sic, pressure, state, on_equilibrium, on_check);
+        protocols::run_stress_steps(engine, s.sic, pressure, state, on_equilibrium, on_check,
+                                    control);
     stop_reason = result.stop_reason;
-    wall_seconds = progress.elapsed_seconds();
+    wall_seconds = wall_before + progress.elapsed_seconds();
     progress.finish();
     summary.add("control", "stress-steps")
         .add("delta_q", s.sic.delta_q)
@@ -208,9 +275,8 @@ void run_biaxial(const BiaxialOptions& o) {
   for (const auto& name : saved) saved_list += (saved_list.empty() ? "" : ";") + name;
   summary.add("saved_states", saved_list);
   protocols::write_json(s.summary, summary);
+  guard.finish();
 }
-
-}  // namespace
 
 void add_biaxial_command(CLI::App& app) {
   auto options = std::make_shared<BiaxialOptions>();
@@ -220,7 +286,10 @@ void add_biaxial_command(CLI::App& app) {
   cmd->add_option("CONFIG", options->settings, "settings (TOML, docs/protocols.md)")->required();
   cmd->add_option("--set", options->overrides, "override a setting, key=value");
   cmd->add_flag("--quiet", options->quiet, "no progress on stderr");
-  cmd->callback([options] { run_biaxial(*options); });
+  cmd->callback([options] {
+    run_biaxial(protocols::Invocation::start("biaxial", options->settings, options->overrides),
+                options->quiet, nullptr);
+  });
 }
 
 }  // namespace granstab::cli

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "resumable.hpp"
 #include "common/io/configuration_file.hpp"
 #include "common/io/csv_writer.hpp"
 #include "common/measurements.hpp"
@@ -40,10 +41,11 @@ struct PrepareSettings {
   std::optional<std::filesystem::path> csv;
   std::uint64_t record_interval = 10000;
   protocols::SnapshotSettings snapshots;
+  protocols::GuardSettings guard;
 };
 
-PrepareSettings read_settings(const PrepareOptions& o) {
-  RunConfig rc = RunConfig::from_file(o.settings, o.overrides);
+PrepareSettings read_settings(const protocols::Invocation& invocation) {
+  RunConfig rc = invocation.settings_config();
   PrepareSettings s;
   s.gas.n = static_cast<int>(rc.integer("sample.n", 100, 1, 10'000'000));
   s.gas.boundary = rc.choice("sample.boundary", "periodic", {"periodic", "walls"}) == "walls"
@@ -63,26 +65,65 @@ PrepareSettings read_settings(const PrepareOptions& o) {
   s.record_interval = static_cast<std::uint64_t>(
       rc.integer("output.record_interval", 10000, 1, INT64_MAX));
   s.snapshots = protocols::read_snapshot_settings(rc);
+  s.guard = protocols::read_guard_settings(
+      rc, std::filesystem::path(s.sample).replace_extension(".checkpoint"));
   rc.finish();
   return s;
 }
 
-void run_prepare(const PrepareOptions& o) {
-  const PrepareSettings s = read_settings(o);  // every settings error comes before any output
-  Progress progress("prepare", 0.0, !o.quiet);
+}  // namespace
 
-  std::mt19937_64 rng(s.seed);
-  Configuration gas = protocols::random_gas(s.gas, s.material, rng);
-  const double gas_phi = solid_fraction(gas);
-  std::ostringstream rng_state;
-  rng_state << rng;
-  gas.rng_state = rng_state.str();
+void run_prepare(const protocols::Invocation& invocation, bool quiet,
+                 const protocols::Checkpoint* checkpoint) {
+  const PrepareSettings s = read_settings(invocation);  // settings errors come before any output
+  Progress progress("prepare", 0.0, !quiet);
+  protocols::RunGuard guard(s.guard, "prepare");
 
-  Engine engine(gas, s.engine);
+  std::optional<Engine> engine;
+  double gas_phi = 0.0, wall_before = 0.0;
+  protocols::LoopControl control;
+  Configuration gas;
+  if (checkpoint) {
+    engine.emplace(checkpoint->configuration("engine"), s.engine);
+    gas_phi = checkpoint->number("prepare.gas_phi");
+    wall_before = checkpoint->number("run.wall_seconds");
+    control.cursor = protocols::get_cursor(*checkpoint);
+    control.resume = true;
+  } else {
+    std::mt19937_64 rng(s.seed);
+    gas = protocols::random_gas(s.gas, s.material, rng);
+    gas_phi = solid_fraction(gas);
+    std::ostringstream rng_state;
+    rng_state << rng;
+    gas.rng_state = rng_state.str();
+    engine.emplace(gas, s.engine);
+  }
   std::optional<CsvWriter> csv;
   if (s.csv) csv.emplace(*s.csv, protocols::state_columns(), 30.0);
   protocols::SnapshotWriter snapshots(s.snapshots);
-  snapshots.maybe_write(gas, 0);
+  if (checkpoint) {
+    if (csv) protocols::restore_csv(*csv, checkpoint->count("output.csv.bytes"));
+    snapshots.restore(checkpoint->has("output.vtk.next")
+                          ? std::optional(checkpoint->count("output.vtk.next"))
+                          : std::nullopt,
+                      checkpoint->count("output.vtk.written"));
+  } else {
+    snapshots.maybe_write(gas, 0);
+  }
+
+  const auto build = [&](const Engine& e, const protocols::Cursor& cursor) {
+    protocols::Checkpoint c = checkpoint_head(invocation, e, cursor, "none",
+                                              wall_before + progress.elapsed_seconds());
+    c.set_number("prepare.gas_phi", gas_phi);
+    if (csv) c.set_count("output.csv.bytes", csv->text().size());
+    if (snapshots.next_step()) c.set_count("output.vtk.next", *snapshots.next_step());
+    c.set_count("output.vtk.written", snapshots.written());
+    return c;
+  };
+  guard.on_write([&] {
+    if (csv) csv->flush();
+  });
+  control.hooks = guard_hooks(guard, build);
 
   const auto observer = [&](const Engine& e, const Configuration& state,
                             const EquilibriumReport& r) {
@@ -100,8 +141,8 @@ void run_prepare(const PrepareOptions& o) {
   };
   Configuration state;
   const protocols::CompactionResult result =
-      protocols::compact_isotropically(engine, s.compaction, state, observer);
-  const double wall_seconds = progress.elapsed_seconds();
+      protocols::compact_isotropically(*engine, s.compaction, state, observer, control);
+  const double wall_seconds = wall_before + progress.elapsed_seconds();
 
   const Measurements m = measure(state);
   write_configuration(state, s.sample);
@@ -119,7 +160,7 @@ void run_prepare(const PrepareOptions& o) {
       .add("mu_wall", s.material.mu_wall);
   protocols::JsonObject summary;
   summary.add("command", "prepare")
-      .add("settings", o.settings)
+      .add("settings", invocation.settings)
       .add("sample", s.sample.string())
       .add("seed", s.seed)
       .add("n_disks", static_cast<std::int64_t>(s.gas.n))
@@ -127,10 +168,10 @@ void run_prepare(const PrepareOptions& o) {
       .add("gas_phi", gas_phi)
       .add("material", material)
       .add("compaction_strain_rate", s.compaction.strain_rate)
-      .add("dt", engine.dt())
+      .add("dt", engine->dt())
       .add("steps_strain_rate", result.strain_rate_steps)
       .add("steps_stress", result.stress_steps)
-      .add("steps", engine.step_count())
+      .add("steps", engine->step_count())
       .add("wall_seconds", wall_seconds)
       .add("reached_equilibrium", result.reached)
       .add("phi", m.phi)
@@ -140,10 +181,11 @@ void run_prepare(const PrepareOptions& o) {
       .add("equilibrium", protocols::equilibrium_json(result.report,
                                                       s.compaction.equilibration.tolerances));
   protocols::write_json(s.summary, summary);
+  guard.finish();
 
   char detail[160];
   std::snprintf(detail, sizeof detail, "%llu steps, Phi %.4f, z %.3f, x0 %.3f",
-                static_cast<unsigned long long>(engine.step_count()), m.phi, m.z, m.x0);
+                static_cast<unsigned long long>(engine->step_count()), m.phi, m.z, m.x0);
   progress.finish(detail);
   if (!result.reached) {
     throw std::runtime_error("prepare: no equilibrium within equilibrium.max_steps = " +
@@ -152,8 +194,6 @@ void run_prepare(const PrepareOptions& o) {
   }
 }
 
-}  // namespace
-
 void add_prepare_command(CLI::App& app) {
   auto options = std::make_shared<PrepareOptions>();
   auto* cmd = app.add_subcommand(
@@ -161,7 +201,10 @@ void add_prepare_command(CLI::App& app) {
   cmd->add_option("CONFIG", options->settings, "settings (TOML, docs/protocols.md)")->required();
   cmd->add_option("--set", options->overrides, "override a setting, key=value");
   cmd->add_flag("--quiet", options->quiet, "no progress on stderr");
-  cmd->callback([options] { run_prepare(*options); });
+  cmd->callback([options] {
+    run_prepare(protocols::Invocation::start("prepare", options->settings, options->overrides),
+                options->quiet, nullptr);
+  });
 }
 
 }  // namespace granstab::cli

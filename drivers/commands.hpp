@@ -17,5 +17,6 @@ void add_perturb_command(CLI::App& app);
 void add_q1_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_plot_command(CLI::App& app);
+void add_resume_command(CLI::App& app);
 
 }  // namespace granstab::cli

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "dynamic/protocols/run_guard.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"granstab: quasistatic deformation of 2D granular packings, by molecular dynamics "
@@ -18,10 +19,15 @@ int main(int argc, char** argv) {
   granstab::cli::add_q1_command(app);
   granstab::cli::add_compare_command(app);
   granstab::cli::add_plot_command(app);
+  granstab::cli::add_resume_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const granstab::protocols::Interrupted& e) {
+    // SIGINT / SIGTERM: the checkpoint is written; 128 + signal as a shell would report.
+    std::cerr << "granstab: " << e.what() << "\n";
+    return e.exit_code();
   } catch (const std::exception& e) {
     // Library errors name the file, line or field; the driver adds only the program name.
     std::cerr << "granstab: error: " << e.what() << "\n";

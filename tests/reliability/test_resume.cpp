@@ -1,0 +1,281 @@
+// Checkpoint and resume end to end (issue #8 items 1 and 2): a run killed by a real SIGKILL at
+// several moments and resumed each time ends with outputs identical to the bit to the
+// uninterrupted run's; SIGINT / SIGTERM write a final checkpoint and exit with 128 + signal.
+//
+// The one field that cannot be identical is "wall_seconds" of the JSON summaries (wall-clock
+// time, which a resumed run also counts differently); those lines are removed before comparing,
+// everything else is compared byte for byte. Hidden temporary files ".NAME.tmp-XXXXXX" that a
+// kill in the middle of an atomic write leaves behind are not outputs and are not compared.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+#include "../protocols/run_granstab.hpp"
+
+namespace granstab {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::Child;
+using testing::Workdir;
+
+const std::string sample =
+    (fs::path(GRANSTAB_SOURCE_DIR) / "data/samples/periodic-n100-k1e4.granstab").string();
+
+// Every output file of dir by name, JSON summaries without their wall_seconds line.
+std::map<std::string, std::string> outputs(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with(".") || name.ends_with(".toml")) continue;
+    std::string text = testing::slurp(e.path());
+    if (name.ends_with(".json")) {
+      std::istringstream in(text);
+      std::string line, kept;
+      while (std::getline(in, line)) {
+        if (line.find("\"wall_seconds\"") == std::string::npos) kept += line + "\n";
+      }
+      text = kept;
+    }
+    files[name] = text;
+  }
+  return files;
+}
+
+struct Scenario {
+  std::string command;     // "prepare", "biaxial", ...
+  std::string settings;    // TOML text
+  std::string checkpoint;  // the checkpoint file the settings name
+};
+
+// Runs the scenario uninterrupted in one directory, and in another killed with SIGKILL after
+// each count of new checkpoints in kill_after, resumed after every kill, then to the end.
+// Returns the number of kills that happened (a run may end before a late kill point).
+int compare_killed_with_uninterrupted(const Scenario& s, const std::vector<int>& kill_after) {
+  Workdir reference("resume-ref"), killed("resume-kill");
+  testing::spit(reference / "run.toml", s.settings);
+  testing::spit(killed / "run.toml", s.settings);
+  {
+    Child run(reference.path(), {s.command, "--quiet", "run.toml"});
+    EXPECT_EQ(run.wait(), 0) << testing::slurp(reference.path().parent_path() / "stderr.log");
+  }
+  int kills = 0;
+  bool finished = false;
+  for (const int k : kill_after) {
+    const std::vector<std::string> args =
+        kills == 0 ? std::vector<std::string>{s.command, "--quiet", "run.toml"}
+                   : std::vector<std::string>{"resume", "--quiet", s.checkpoint};
+    Child run(killed.path(), args);
+    if (!run.signal_after(killed / s.checkpoint, k, SIGKILL)) {
+      EXPECT_EQ(run.wait(), 0) << testing::slurp(killed.path().parent_path() / "stderr.log");
+      finished = true;  // it ended before the k-th checkpoint
+      break;
+    }
+    EXPECT_EQ(run.wait(), 128 + SIGKILL);
+    ++kills;
+  }
+  if (!finished) {
+    Child rest(killed.path(), {"resume", "--quiet", s.checkpoint});
+    EXPECT_EQ(rest.wait(), 0) << testing::slurp(killed.path().parent_path() / "stderr.log");
+  }
+  EXPECT_FALSE(fs::exists(killed / s.checkpoint)) << "a finished run removes its checkpoint";
+  const auto expected = outputs(reference.path()), got = outputs(killed.path());
+  EXPECT_EQ(expected.size(), got.size());
+  for (const auto& [name, text] : expected) {
+    const auto it = got.find(name);
+    EXPECT_TRUE(it != got.end()) << name << " missing after the resumed run";
+    if (it != got.end()) {
+      EXPECT_TRUE(it->second == text) << name << " differs";
+    }
+  }
+  return kills;
+}
+
+const std::string prepare_settings = R"(
+[sample]
+n = 40
+boundary = "periodic"
+seed = 7
+[material]
+kappa = 1e3
+[output]
+sample = "tiny.granstab"
+csv = "tiny.csv"
+record_interval = 1000
+vtk = "snap"
+vtk_interval = 3000
+[checkpoint]
+every_steps = 400
+)";
+
+TEST(Resume, PrepareKilledFourTimesEndsIdentical) {
+  const int kills = compare_killed_with_uninterrupted(
+      {"prepare", prepare_settings, "tiny.checkpoint"}, {2, 5, 3, 6});
+  EXPECT_GE(kills, 2);
+}
+
+TEST(Resume, PrepareWithStrainRatePhaseKilledEndsIdentical) {
+  // Kill points in the strain-rate phase (checkpoints every 300 steps) and in the stress phase.
+  const int kills = compare_killed_with_uninterrupted(
+      {"prepare",
+       prepare_settings + "[compaction]\nstrain_rate = 0.05\n",
+       "tiny.checkpoint"},
+      {1, 4, 10, 10});
+  EXPECT_GE(kills, 2);
+}
+
+TEST(Resume, BiaxialStrainRateKilledEndsIdentical) {
+  const int kills = compare_killed_with_uninterrupted(
+      {"biaxial", "[input]\nsample = \"" + sample + "\"\n" + R"(
+[biaxial]
+control = "strain-rate"
+gamma = 1e-3
+epsilon_2_max = 4e-3
+record_interval = 2e-4
+[output]
+csv = "src.csv"
+sample = "final.granstab"
+save_every = 1e-3
+[checkpoint]
+every_steps = 150
+)",
+       "src.checkpoint"},
+      {2, 3, 5, 4});
+  EXPECT_GE(kills, 2);
+}
+
+TEST(Resume, BiaxialStressStepsKilledEndsIdentical) {
+  const int kills = compare_killed_with_uninterrupted(
+      {"biaxial", "[input]\nsample = \"" + sample + "\"\n" + R"(
+[material]
+mu = 0.5
+[biaxial]
+control = "stress-steps"
+delta_q = 0.05
+q_max = 0.3
+[output]
+csv = "sic.csv"
+sample = "final.granstab"
+save_every = 0.1
+[checkpoint]
+every_steps = 400
+)",
+       "sic.checkpoint"},
+      {1, 3, 2, 4});
+  EXPECT_GE(kills, 2);
+}
+
+TEST(Resume, CreepWithResumedStrainRateKilledEndsIdentical) {
+  const int kills = compare_killed_with_uninterrupted(
+      {"creep", "[input]\nsample = \"" + sample + "\"\n" + R"(
+[material]
+mu = 0.5
+[creep]
+gamma = 1e-3
+record_interval = 5e-4
+at_epsilon_2 = 2e-3
+resume = true
+epsilon_2_max = 4e-3
+[output]
+csv = "creep.csv"
+hold_sample = "hold.granstab"
+sample = "final.granstab"
+[checkpoint]
+every_steps = 300
+)",
+       "creep.checkpoint"},
+      {2, 4, 4, 6, 6});
+  EXPECT_GE(kills, 2);
+}
+
+TEST(Resume, PerturbKilledEndsIdentical) {
+  const int kills = compare_killed_with_uninterrupted(
+      {"perturb", "[input]\nsample = \"" + sample + "\"\n" + R"(
+[perturb]
+f0 = 1e-2
+repetitions = 2
+seed = 3
+[output]
+csv = "perturb.csv"
+sample = "final.granstab"
+[checkpoint]
+every_steps = 2000
+)",
+       "perturb.checkpoint"},
+      {3, 5, 4, 6});  // about 25 checkpoints: the loaded and released waits of both draws
+  EXPECT_GE(kills, 2);
+}
+
+// SIGINT and SIGTERM: the handler only sets a flag; the loop writes a checkpoint at its next
+// safe point and the command exits with 128 + signal and a message saying how to continue.
+void interrupt_and_resume(int signal) {
+  const Scenario s{"prepare", prepare_settings, "tiny.checkpoint"};
+  Workdir reference("signal-ref"), stopped("signal-stop");
+  testing::spit(reference / "run.toml", s.settings);
+  testing::spit(stopped / "run.toml", s.settings);
+  {
+    Child run(reference.path(), {s.command, "--quiet", "run.toml"});
+    ASSERT_EQ(run.wait(), 0);
+  }
+  {
+    Child run(stopped.path(), {s.command, "--quiet", "run.toml"});
+    ASSERT_TRUE(run.signal_after(stopped / s.checkpoint, 2, signal)) << "finished too early";
+    EXPECT_EQ(run.wait(), 128 + signal);
+  }
+  const std::string err = testing::slurp(stopped.path().parent_path() / "stderr.log");
+  EXPECT_NE(err.find(signal == SIGINT ? "stopped by SIGINT" : "stopped by SIGTERM"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("granstab resume tiny.checkpoint"), std::string::npos) << err;
+  ASSERT_TRUE(fs::exists(stopped / s.checkpoint));
+  EXPECT_FALSE(fs::exists(stopped / "tiny.granstab")) << "no final output from a stopped run";
+  {
+    Child rest(stopped.path(), {"resume", "--quiet", s.checkpoint});
+    ASSERT_EQ(rest.wait(), 0) << testing::slurp(stopped.path().parent_path() / "stderr.log");
+  }
+  EXPECT_EQ(outputs(reference.path()), outputs(stopped.path()));
+}
+
+TEST(Signals, SigtermWritesACheckpointAndExits143) { interrupt_and_resume(SIGTERM); }
+TEST(Signals, SigintWritesACheckpointAndExits130) { interrupt_and_resume(SIGINT); }
+
+TEST(Resume, RefusesADamagedCheckpointAndAChangedInput) {
+  Workdir dir("resume-bad");
+  testing::spit(dir / "bad.checkpoint", "granstab-checkpoint 1\nrun.command 7\nprepare\nend 1\n");
+  auto r = dir.run("resume bad.checkpoint");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("bad.checkpoint: checksum mismatch"), std::string::npos) << r.err;
+  r = dir.run("resume missing.checkpoint");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("missing.checkpoint"), std::string::npos) << r.err;
+  // A biaxial run stopped by SIGTERM, then its input sample changed: resume refuses.
+  testing::spit(dir / "in.granstab", testing::slurp(sample));
+  testing::spit(dir / "run.toml", R"(
+[input]
+sample = "in.granstab"
+[biaxial]
+gamma = 1e-3
+epsilon_2_max = 0.02
+[output]
+csv = "src.csv"
+[checkpoint]
+every_steps = 100
+)");
+  {
+    Child run(dir.path(), {"biaxial", "--quiet", "run.toml"});
+    ASSERT_TRUE(run.signal_after(dir / "src.checkpoint", 1, SIGTERM));
+    ASSERT_EQ(run.wait(), 128 + SIGTERM);
+  }
+  testing::spit(dir / "in.granstab", testing::slurp(sample) + "\n");
+  r = dir.run("resume src.checkpoint");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("changed since the run started"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace granstab
