@@ -53,6 +53,64 @@ std::string Progress::format(std::string_view label, double done, double total, 
   return line;
 }
 
+std::string Progress::format_estimated(std::string_view label, double done, double elapsed,
+                                       std::optional<double> seconds_left,
+                                       std::string_view basis, std::string_view detail) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%.6g  elapsed %s  ETA %s%s (estimate: %.*s)", done,
+                format_duration(elapsed).c_str(), seconds_left ? "~" : "",
+                seconds_left ? format_duration(*seconds_left).c_str() : "?",
+                static_cast<int>(basis.size()), basis.data());
+  std::string line(label);
+  line += ": ";
+  line += buf;
+  if (!detail.empty()) {
+    line += "  ";
+    line += detail;
+  }
+  return line;
+}
+
+void Progress::update_estimated(double done, std::optional<double> seconds_left,
+                                std::string_view basis, std::string_view detail) {
+  if (!enabled_) return;
+  const auto now = Clock::now();
+  if (std::chrono::duration<double>(now - last_).count() < interval_) return;
+  last_ = now;
+  std::cerr << format_estimated(label_, done, elapsed_seconds(), seconds_left, basis, detail)
+            << std::endl;
+}
+
+void DecayEstimate::add(double step, double ratio) {
+  if (!(ratio > 0.0) || !std::isfinite(ratio)) return;
+  step_.push_back(step);
+  log_ratio_.push_back(std::log(ratio));
+}
+
+std::optional<double> DecayEstimate::steps_left() const {
+  const std::size_t n = step_.size();
+  if (n < 4) return std::nullopt;
+  // Least squares over the later half of the checks.
+  const std::size_t first = n / 2;
+  const double m = static_cast<double>(n - first);
+  double sx = 0.0, sy = 0.0;
+  for (std::size_t k = first; k < n; ++k) {
+    sx += step_[k];
+    sy += log_ratio_[k];
+  }
+  const double mx = sx / m, my = sy / m;
+  double sxx = 0.0, sxy = 0.0;
+  for (std::size_t k = first; k < n; ++k) {
+    sxx += (step_[k] - mx) * (step_[k] - mx);
+    sxy += (step_[k] - mx) * (log_ratio_[k] - my);
+  }
+  if (!(sxx > 0.0)) return std::nullopt;
+  const double slope = sxy / sxx;
+  if (!(slope < 0.0)) return std::nullopt;
+  const double fitted_now = my + slope * (step_.back() - mx);
+  return std::max(0.0, fitted_now / -slope);
+}
+
 void Progress::update(double done, std::string_view detail) {
   if (!enabled_) return;
   const auto now = Clock::now();

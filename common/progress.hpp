@@ -2,8 +2,10 @@
 // Progress of a long run on stderr with an ETA (issue #4). One line every `interval` seconds
 // (lines, not carriage returns, so a log file stays readable); disabled by --quiet.
 #include <chrono>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace granstab {
 
@@ -16,6 +18,10 @@ class Progress {
   // Reports `done` units of work; prints only when the interval has elapsed. `detail` is
   // appended to the line (a residual, the current q, ...).
   void update(double done, std::string_view detail = {});
+  // For runs with no known end: `done` units so far and an estimate of the seconds left (none:
+  // no estimate yet), printed as "ETA ~X (estimate: BASIS)".
+  void update_estimated(double done, std::optional<double> seconds_left, std::string_view basis,
+                        std::string_view detail = {});
   // Prints the final line (elapsed wall time) if enabled.
   void finish(std::string_view detail = {});
 
@@ -25,6 +31,10 @@ class Progress {
   // "45.2% (900 / 2000)  elapsed 12 s  ETA 15 s" (public for tests).
   static std::string format(std::string_view label, double done, double total, double elapsed,
                             std::string_view detail);
+  // "12000  elapsed 3 s  ETA ~8 s (estimate: residual decay)" (public for tests).
+  static std::string format_estimated(std::string_view label, double done, double elapsed,
+                                      std::optional<double> seconds_left, std::string_view basis,
+                                      std::string_view detail);
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -33,6 +43,22 @@ class Progress {
   bool enabled_;
   double interval_;
   Clock::time_point start_, last_;
+};
+
+// How long until a residual that decays roughly exponentially (a run to equilibrium) falls to
+// its tolerance. Fed with ratio = residual / tolerance at each check, it fits log(ratio) against
+// the step over the later half of the checks so far (the early transient says little about the
+// end) and extrapolates the fitted line to ratio = 1. Only an estimate: the residual of a
+// granular packing is noisy and its decay rate changes (docs/protocols.md).
+class DecayEstimate {
+ public:
+  void add(double step, double ratio);
+  // Steps left until the fitted ratio reaches 1; nullopt with fewer than 4 checks or when the
+  // fitted residual is not decreasing.
+  std::optional<double> steps_left() const;
+
+ private:
+  std::vector<double> step_, log_ratio_;
 };
 
 // "12 s", "3 min 05 s", "2 h 03 min".

@@ -2,6 +2,7 @@
 // equilibrium (SPEC §3.2); writes the sample, a JSON summary and optionally a CSV time series
 // and VTK snapshots. The settings are documented in docs/protocols.md.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -125,6 +126,8 @@ void run_prepare(const protocols::Invocation& invocation, bool quiet,
   });
   control.hooks = guard_hooks(guard, build);
 
+  DecayEstimate decay;
+  std::optional<std::uint64_t> first_step;
   const auto observer = [&](const Engine& e, const Configuration& state,
                             const EquilibriumReport& r) {
     const std::uint64_t step = e.step_count();
@@ -132,11 +135,24 @@ void run_prepare(const protocols::Invocation& invocation, bool quiet,
       csv->row(protocols::state_row(state, measure(state)));
     }
     snapshots.maybe_write(state, step);
+    // The compaction has no known end: the ETA extrapolates the decay of the slowest residual
+    // (relative to its tolerance) at this run's measured wall time per step.
+    const EquilibriumTolerances& tol = s.compaction.equilibration.tolerances;
+    decay.add(static_cast<double>(step),
+              std::max({r.max_net_force / tol.force, r.max_net_torque / tol.torque,
+                        r.stress_error[0] / tol.stress, r.stress_error[1] / tol.stress}));
+    if (!first_step) first_step = step;
+    std::optional<double> seconds_left;
+    const auto steps_left = decay.steps_left();
+    if (steps_left && step > *first_step) {
+      seconds_left = *steps_left * progress.elapsed_seconds() /
+                     static_cast<double>(step - *first_step);
+    }
     char detail[160];
     std::snprintf(detail, sizeof detail, "Phi %.4f  max force %.3g  torque %.3g  stress err %.3g %.3g",
                   solid_fraction(state), r.max_net_force, r.max_net_torque, r.stress_error[0],
                   r.stress_error[1]);
-    progress.update(static_cast<double>(step), detail);
+    progress.update_estimated(static_cast<double>(step), seconds_left, "residual decay", detail);
     return true;
   };
   Configuration state;
