@@ -247,36 +247,30 @@ void wall_forces(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, 
 }
 
 // Per-disk sums in ascending partner order: pairs where the disk is j (partners < i), then
-// pairs where it is i (partners > i), then walls, then the external force. The viscous pass
-// (viscous_only) sums the viscous components alone.
-template <bool viscous_only>
+// pairs where it is i (partners > i), then walls, then the external force.
 void accumulate(DiskArrays& d, const PairArrays& pairs, const ForceInputs& in, const Cell& cell,
-                int i, BlockSums& sums) {
+                int i, bool viscous_only, BlockSums& sums) {
   double fx = 0.0, fy = 0.0, fvx = 0.0, fvy = 0.0, torque = 0.0;
   for (int s = pairs.column_start[i]; s < pairs.column_start[i + 1]; ++s) {
     const PairArrays::Force& f = pairs.force[pairs.column_pair[s]];
-    if constexpr (!viscous_only) {
-      fx += f.fx;
-      fy += f.fy;
-      torque += f.torque_j;
-    }
+    fx += f.fx;
+    fy += f.fy;
     fvx += f.fvx;
     fvy += f.fvy;
+    torque += f.torque_j;
   }
   for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
     const PairArrays::Force& f = pairs.force[p];
-    if constexpr (!viscous_only) {
-      fx -= f.fx;
-      fy -= f.fy;
-      torque += f.torque_i;
-    }
+    fx -= f.fx;
+    fy -= f.fy;
     fvx -= f.fvx;
     fvy -= f.fvy;
+    torque += f.torque_i;
   }
   if (!in.periodic) wall_forces(d, in, cell, i, viscous_only, fx, fy, fvx, fvy, torque, sums);
   d.fvx[i] = fvx;
   d.fvy[i] = fvy;
-  if constexpr (viscous_only) return;
+  if (viscous_only) return;
   if (!d.ext_fx.empty()) {
     fx += d.ext_fx[i];
     fy += d.ext_fy[i];
@@ -284,17 +278,11 @@ void accumulate(DiskArrays& d, const PairArrays& pairs, const ForceInputs& in, c
   d.fx[i] = fx;
   d.fy[i] = fy;
   d.torque[i] = torque;
-  if (in.half_kick > 0.0) {  // the values just stored: the bits of a separate kick loop
-    const double half = in.half_kick;
-    d.vx[i] += half * (fx + fvx) * d.inv_mass[i];
-    d.vy[i] += half * (fy + fvy) * d.inv_mass[i];
-    d.omega[i] += half * torque * d.inv_inertia[i];
-  }
 }
 
-template <bool viscous_only, class PairPass>
+template <class PairPass>
 BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
-              std::vector<BlockSums>& blocks, PairPass pair_pass) {
+              std::vector<BlockSums>& blocks, bool viscous_only, PairPass pair_pass) {
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
   blocks.resize(2 * static_cast<std::size_t>(nb));
@@ -317,7 +305,7 @@ BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
       BlockSums sums;
       const int end = std::min(n, (b + 1) * block_size);
       for (int i = b * block_size; i < end; ++i) {
-        accumulate<viscous_only>(disks, pairs, in, cell, i, sums);
+        accumulate(disks, pairs, in, cell, i, viscous_only, sums);
       }
       blocks[nb + b] = sums;
     }
@@ -329,12 +317,12 @@ BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
 
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks) {
-  return run<false>(disks, pairs, in, blocks, pair_forces);
+  return run(disks, pairs, in, blocks, false, pair_forces);
 }
 
 BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks) {
-  return run<true>(disks, pairs, in, blocks, pair_viscous);
+  return run(disks, pairs, in, blocks, true, pair_viscous);
 }
 
 }  // namespace granstab::dynamic

@@ -25,10 +25,6 @@ struct ForceInputs {
   // Run the per-block loops on the OpenMP team (false: on the calling thread; small samples,
   // where the synchronisation costs more than the work). The result is the same bits either way.
   bool parallel = true;
-  // When > 0 (the force pass of a step), every disk gets its second half kick
-  // v += half_kick F / m, omega += half_kick T / I right after its force sum: the same
-  // arithmetic as a separate kick loop, one pass over the disks less.
-  double half_kick = 0.0;
 };
 
 // Elastic, frictional and viscous forces; updates delta_t of pairs and walls. Sums (stress,

@@ -164,11 +164,9 @@ void Engine::refresh_viscous_forces() {
 void Engine::step() {
   dynamic::kick_drift(disks_, cell_, stage_, dt_, neighbours_, parallel());
   neighbours_.update(disks_, cell_, pairs_, material_);
-  dynamic::ForceInputs in = force_inputs(dt_, true);
-  in.half_kick = 0.5 * dt_;  // the disks' second half kick, fused with their force sums
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, in, blocks_);
+  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(dt_, true), blocks_);
   control_cell();
-  dynamic::kick_cell(cell_, stage_, dt_);
+  dynamic::kick(disks_, cell_, stage_, dt_, parallel());
   refresh_viscous_forces();
   ++step_;
   time_ += dt_;

@@ -62,11 +62,19 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   neighbours.set_max_displacement_squared(max_d2);
 }
 
-void kick_cell(CellState& cell, const Stage& stage, double dt) {
+void kick(DiskArrays& d, CellState& cell, const Stage& stage, double dt, bool parallel) {
+  const double half = 0.5 * dt;
   for (int a = 0; a < 2; ++a) {
     if (stage.control[a] == LengthControl::stress) {
-      cell.length_rate[a] += 0.5 * dt * cell.length_acceleration[a];
+      cell.length_rate[a] += half * cell.length_acceleration[a];
     }
+  }
+  const int n = static_cast<int>(d.size());
+#pragma omp parallel for schedule(static) if (parallel)
+  for (int i = 0; i < n; ++i) {
+    d.vx[i] += half * (d.fx[i] + d.fvx[i]) * d.inv_mass[i];
+    d.vy[i] += half * (d.fy[i] + d.fvy[i]) * d.inv_mass[i];
+    d.omega[i] += half * d.torque[i] * d.inv_inertia[i];
   }
 }
 

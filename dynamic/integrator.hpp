@@ -16,10 +16,8 @@ namespace granstab::dynamic {
 void kick_drift(DiskArrays& disks, CellState& cell, const Stage& stage, double dt,
                 NeighbourList& neighbours, bool parallel);
 
-// The second half kick of the stress-controlled cell lengths / walls:
-// dL/dt(t + dt) = dL/dt(t + dt/2) + dt/2 d2L/dt2(t + dt). The disks get theirs in the force
-// pass (ForceInputs::half_kick), right after their force sums.
-void kick_cell(CellState& cell, const Stage& stage, double dt);
+// v(t + dt) = v(t + dt/2) + dt/2 a(t + dt), same for omega and dL/dt.
+void kick(DiskArrays& disks, CellState& cell, const Stage& stage, double dt, bool parallel);
 
 // Brings x into [0, length) after a drift (displacements per step are far below a length).
 inline double wrap(double x, double length) {
