@@ -1,6 +1,19 @@
 #include "static/hill.hpp"
 
+#include <cmath>
+#include <complex>
+
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+// GCC 12 reports a false use-after-free inside Spectra's UpperHessenbergEigen (Eigen temporaries).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuse-after-free"
+#endif
+#include <Spectra/GenEigsRealShiftSolver.h>
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+#pragma GCC diagnostic pop
+#endif
 #include <Spectra/SymEigsShiftSolver.h>
 
 #include "static/linear_solvers.hpp"
@@ -33,7 +46,92 @@ class ShiftSolve {
   bool ok_ = false;
 };
 
+// Spectra's real-shift operator for K with the shift 0 only: y = K^-1 x with the LU of K.
+class InverseOperator {
+ public:
+  using Scalar = double;
+  InverseOperator(const LuFactor& lu, Eigen::Index n) : lu_(lu), n_(n) {}
+  Eigen::Index rows() const { return n_; }
+  Eigen::Index cols() const { return n_; }
+  void set_shift(const Scalar&) {}
+  void perform_op(const Scalar* x_in, Scalar* y_out) const {
+    Eigen::Map<Eigen::VectorXd>(y_out, n_) = lu_.solve(Eigen::Map<const Eigen::VectorXd>(x_in, n_));
+  }
+
+ private:
+  const LuFactor& lu_;
+  Eigen::Index n_;
+};
+
+bool real_negative(const std::complex<double>& z) {
+  return z.real() < 0.0 && std::abs(z.imag()) <= 1e-10 * std::abs(z);
+}
+
+bool dense_real_negative(const SparseMatrix& k, NegativeEigenvalues& out) {
+  Eigen::EigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(k), true);
+  if (eig.info() != Eigen::Success) return false;
+  out.real = 0;
+  for (Eigen::Index i = 0; i < eig.eigenvalues().size(); ++i)
+    if (real_negative(eig.eigenvalues()[i])) {
+      ++out.real;
+      out.modes.push_back(eig.eigenvectors().col(i).real().normalized());
+    }
+  return true;
+}
+
+// Dense solves stay cheap up to this size (a few tenths of a second).
+constexpr int dense_limit = 1500;
+
 }  // namespace
+
+int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt(s);
+  if (ldlt.info() != Eigen::Success) return -1;
+  const Eigen::VectorXd d = ldlt.vectorD();
+  int count = 0;
+  for (Eigen::Index i = 0; i < d.size(); ++i) {
+    if (d[i] == 0.0 || !std::isfinite(d[i])) return -1;
+    count += d[i] < 0.0;
+  }
+  return count;
+}
+
+NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu) {
+  NegativeEigenvalues out;
+  const int n = static_cast<int>(k.rows());
+  if (n == 0) {
+    out.ok = true;
+    out.symmetric = out.real = 0;
+    return out;
+  }
+  out.symmetric = negative_eigenvalue_count_symmetric(0.5 * (k + SparseMatrix(k.transpose())));
+  if (out.symmetric == 0) {
+    out.ok = true;
+    out.real = 0;
+    return out;
+  }
+  if (lu && n > 8) {
+    InverseOperator op(*lu, n);
+    const int nev = std::min(6, n - 3);
+    Spectra::GenEigsRealShiftSolver<InverseOperator> eigs(op, nev, std::min(n, 2 * nev + 8), 0.0);
+    eigs.init();
+    eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+    if (eigs.info() == Spectra::CompInfo::Successful) {
+      out.ok = true;
+      out.real = 0;
+      const Eigen::VectorXcd values = eigs.eigenvalues();
+      const Eigen::MatrixXcd vectors = eigs.eigenvectors();
+      for (Eigen::Index i = 0; i < values.size(); ++i)
+        if (real_negative(values[i])) {
+          ++out.real;
+          out.modes.push_back(vectors.col(i).real().normalized());
+        }
+      return out;
+    }
+  }
+  if (n <= dense_limit) out.ok = dense_real_negative(k, out);
+  return out;
+}
 
 HillResult hill_indicator(const SparseMatrix& k) {
   HillResult h;

@@ -1,8 +1,11 @@
 #pragma once
 // The Hill indicator of STATIC.md §S3.4 (c): the smallest eigenvalue of (K + K^T)/2. A value <= 0
 // means the second-order work can vanish; it is reported along the curve, not a failure.
+#include <vector>
+
 #include <Eigen/Core>
 
+#include "static/linear_solvers.hpp"
 #include "static/tangent.hpp"
 
 namespace granstab::statics {
@@ -16,5 +19,23 @@ struct HillResult {
 // Dense eigensolver for small systems; otherwise shift-invert Lanczos (Spectra) with a shift below
 // the spectrum found by CHOLMOD LL^T trials, so every solve is positive definite.
 HillResult hill_indicator(const SparseMatrix& k);
+
+// Negative eigenvalues of the symmetric matrix s, exactly: the negative pivots of its LDL^T
+// (Sylvester's law of inertia). -1 when the factorisation meets a zero pivot.
+int negative_eigenvalue_count_symmetric(const SparseMatrix& s);
+
+// The §S3.4 (b) criterion made robust to an even number of eigenvalues crossing zero at once
+// (det K keeps its sign then): the real negative eigenvalues of K.
+struct NegativeEigenvalues {
+  bool ok = false;
+  int symmetric = -1;  // negative eigenvalues of (K + K^T)/2 (LDL^T inertia)
+  int real = -1;       // real negative eigenvalues of K
+  std::vector<Eigen::VectorXd> modes;  // their (real) eigenvectors, unit length
+};
+// If (K + K^T)/2 has no negative eigenvalue, neither has K (x^T K x = x^T S x > 0 for every real
+// eigenvector x): real = 0 at the cost of one LDL^T. Otherwise the eigenvalues of K nearest 0
+// (shift-invert Arnoldi, Spectra, with lu = the LU of K, or dense when lu is null or Arnoldi
+// fails and K is small) are counted: an eigenvalue that crossed 0 since the last state is near 0.
+NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu);
 
 }  // namespace granstab::statics

@@ -58,6 +58,62 @@ PredictorResult check_state(const Network& net, double lambda, double step, cons
   return predict(probe, options, timings, &increment);
 }
 
+// A rate x (or -x) on the branch of the statuses: every sliding contact keeps sliding (plastic
+// multiplier lambda = -mu dF_N / K_T - s B_T x >= 0). A mode that unloads a sliding contact meets
+// the stiffer sticking response instead, so it is no unstable branch of these statuses.
+bool on_branch(const Network& net, const std::vector<ContactState>& states,
+               const std::vector<ContactStatus>& statuses, const Eigen::VectorXd& x) {
+  const double k_n = net.material.k_n, k_t = net.material.k_t;
+  for (const double sign_x : {1.0, -1.0}) {
+    bool all = true;
+    for (std::size_t c = 0; c < states.size() && all; ++c) {
+      const ContactState& s = states[c];
+      if (!s.frictional || s.f_n <= 0.0) continue;
+      if (statuses[c] != ContactStatus::slide_positive &&
+          statuses[c] != ContactStatus::slide_negative)
+        continue;
+      double bn_x = 0.0, bt_x = 0.0;
+      for (int a = 0; a < n_local; ++a)
+        if (s.rows.dof[a] >= 0) {
+          bn_x += s.rows.bn[a] * sign_x * x[s.rows.dof[a]];
+          bt_x += s.rows.bt0[a] * sign_x * x[s.rows.dof[a]];
+        }
+      const double sign = statuses[c] == ContactStatus::slide_positive ? 1.0 : -1.0;
+      const double lambda = s.mu * k_n * bn_x / k_t - sign * bt_x;
+      // Round-off scale of lambda: the size of its two terms.
+      if (lambda < -1e-9 * (std::abs(s.mu * k_n * bn_x / k_t) + std::abs(bt_x))) all = false;
+    }
+    if (all) return true;
+  }
+  return false;
+}
+
+// Real negative eigenvalues of K on the statuses of a check whose eigenvectors stay on the branch
+// of those statuses (0 when not counted or unknown: det K alone then decides).
+int negative_real_eigenvalues(const Network& net, const PredictorResult& p, bool count) {
+  if (!count || !p.ok || !p.factor) return 0;
+  const Reduction r = make_reduction(p.kept);
+  const NegativeEigenvalues e = negative_eigenvalues(reduce(p.tangent, r), p.factor.get());
+  if (!e.ok) return 0;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+  const std::vector<ContactState> states = evaluate_contacts(net, zero);
+  int n = 0;
+  for (const Eigen::VectorXd& v : e.modes)
+    n += on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent.rows())));
+  return n;
+}
+
+// Stable beyond the state: consistent statuses with det K > 0 and no real negative eigenvalue.
+bool stable(const PredictorResult& p, int negative) {
+  return p.ok && p.determinant_sign > 0 && negative == 0;
+}
+
+std::string even_crossing_detail(int negative, const char* where) {
+  return "K(active set) has " + std::to_string(negative) +
+         " real negative eigenvalues with det K > 0 " + where +
+         " (an even number crossed zero within one step)";
+}
+
 double hill_of(const Network& net) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
@@ -128,14 +184,18 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
 
   // The start itself may already be unstable (no increment has a stable consistent solution).
   PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
+  int negative = negative_real_eigenvalues(net, check, options.count_negative_eigenvalues);
   point.determinant_sign = check.determinant_sign;
+  point.negative_eigenvalues = negative;
   if (options.hill) point.hill = hill_of(net);
   result.curve.push_back(point);
   Criterion failure = Criterion::none;
   std::string detail;
-  if (!check.ok || check.determinant_sign <= 0) {
+  if (!stable(check, negative)) {
     failure = check.ok ? Criterion::bifurcation : Criterion::existence;
-    detail = check.ok ? "det K <= 0 at the start" : "predictor at the start: " + check.failure;
+    detail = !check.ok                      ? "predictor at the start: " + check.failure
+             : check.determinant_sign <= 0 ? std::string("det K <= 0 at the start")
+                                           : even_crossing_detail(negative, "at the start");
     result.q1 = lambda;
     result.q1_bracket = {lambda, lambda};
     result.criterion = failure;
@@ -157,11 +217,13 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     if (s.ok) {
       rebuild_degrees_of_freedom(trial);
       check = check_state(trial, lambda + step, step, path, options.solver, &result.timings);
-      if (check.ok && check.determinant_sign > 0) {
+      negative = negative_real_eigenvalues(trial, check, options.count_negative_eigenvalues);
+      if (stable(check, negative)) {
         accepted = true;
       } else if (check.ok) {
         failure = Criterion::bifurcation;
-        detail = "det K(active set) <= 0 beyond the bracket";
+        detail = check.determinant_sign <= 0 ? "det K(active set) <= 0 beyond the bracket"
+                                             : even_crossing_detail(negative, "beyond the bracket");
       } else {
         failure = Criterion::existence;
         detail = "no consistent statuses beyond the bracket: " + check.failure;
@@ -177,6 +239,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       ++result.steps;
       CurvePoint p = measure(net, lambda, reference_length);
       p.determinant_sign = check.determinant_sign;
+      p.negative_eigenvalues = negative;
       p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
       p.new_contacts = s.new_contacts;
       if (options.hill) p.hill = hill_of(net);

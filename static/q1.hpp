@@ -33,6 +33,10 @@ struct Q1Options {
   int max_steps = 1000000;
   double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
   bool hill = true;  // log the Hill indicator at every accepted state
+  // Criterion (b) also fires when K(active set) has real negative eigenvalues with det K > 0 (an
+  // even number crossed zero within one step): one LDL^T of (K + K^T)/2 per state, plus a few
+  // shift-invert Arnoldi solves with the state's LU when that is indefinite.
+  bool count_negative_eigenvalues = true;
   SolverOptions solver;
 };
 
@@ -43,6 +47,7 @@ struct CurvePoint {
   int n_sliding = 0;
   double hill = std::numeric_limits<double>::quiet_NaN();
   int determinant_sign = 0;  // of K on the consistent statuses of the next increment
+  int negative_eigenvalues = 0;  // real negative eigenvalues of that K (-1: not counted)
   int newton_iterations = 0;
   int new_contacts = 0;
 };

@@ -1,0 +1,121 @@
+// STATIC.md §S3.4 (b) made robust: det K keeps its sign when an even number of eigenvalues cross
+// zero within one step; the count of real negative eigenvalues of K (through the LDL^T inertia of
+// the symmetric part, then the eigenvalues of K nearest 0) does not.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "static/hill.hpp"
+#include "static/linear_solvers.hpp"
+#include "static/load_step.hpp"
+#include "static/q1.hpp"
+
+namespace granstab::statics {
+namespace {
+
+// Block diagonal: 2 x 2 blocks [[a, b], [-b, a]] (eigenvalues a +- i b, symmetric part a I) and
+// [[a, c], [c, a]] (eigenvalues a +- c), then a diagonal tail.
+SparseMatrix blocks(const std::vector<std::array<double, 3>>& rotation,
+                    const std::vector<std::array<double, 2>>& symmetric,
+                    const std::vector<double>& tail) {
+  std::vector<Eigen::Triplet<double>> t;
+  int n = 0;
+  for (const auto& [a, b, unused] : rotation) {
+    (void)unused;
+    t.emplace_back(n, n, a);
+    t.emplace_back(n, n + 1, b);
+    t.emplace_back(n + 1, n, -b);
+    t.emplace_back(n + 1, n + 1, a);
+    n += 2;
+  }
+  for (const auto& [a, c] : symmetric) {
+    t.emplace_back(n, n, a);
+    t.emplace_back(n, n + 1, c);
+    t.emplace_back(n + 1, n, c);
+    t.emplace_back(n + 1, n + 1, a);
+    n += 2;
+  }
+  for (double d : tail) t.emplace_back(n, n, d), ++n;
+  SparseMatrix k(n, n);
+  k.setFromTriplets(t.begin(), t.end());
+  return k;
+}
+
+void expect_counts(const SparseMatrix& k, int symmetric, int real) {
+  LuFactor lu;
+  ASSERT_TRUE(lu.factorize(k));
+  for (const LuFactor* factor : {static_cast<const LuFactor*>(&lu), static_cast<const LuFactor*>(nullptr)}) {  // Arnoldi, dense
+    const NegativeEigenvalues e = negative_eigenvalues(k, factor);
+    ASSERT_TRUE(e.ok);
+    EXPECT_EQ(e.symmetric, symmetric) << (factor ? "arnoldi" : "dense");
+    EXPECT_EQ(e.real, real) << (factor ? "arnoldi" : "dense");
+  }
+}
+
+TEST(NegativeEigenvalues, CountsRealNegativeEigenvaluesNotTheDeterminantSign) {
+  std::vector<double> tail;
+  for (int i = 0; i < 30; ++i) tail.push_back(1.0 + i);
+  // Two negative eigenvalues (-2 +- 0.5): det > 0.
+  expect_counts(blocks({}, {{-2.0, 0.5}}, tail), 2, 2);
+  // [[0.5, 6], [-4, 0.5]]: complex eigenvalues 0.5 +- i sqrt(24), symmetric part [[0.5, 1],
+  // [1, 0.5]] with one negative eigenvalue: Hill < 0 and still no real negative eigenvalue.
+  SparseMatrix k = blocks({{0.5, 4.0, 0.0}}, {}, tail);
+  k.coeffRef(0, 1) = 6.0;
+  k.coeffRef(1, 0) = -4.0;
+  expect_counts(k, 1, 0);
+  // Positive definite symmetric part: 0 without an eigensolver.
+  expect_counts(blocks({{1.0, 5.0, 0.0}}, {{3.0, 1.0}}, tail), 0, 0);
+}
+
+// Three disks of radius 1/2 per period along x (spacing d = 1 - F/K_N), rotations and e2 fixed,
+// the translation pinned on disk 0: the transverse displacements of disks 1 and 2 have the
+// stiffness matrix k [[2, -1], [-1, 2]] with k = K_T - F/d, eigenvalues k and 3k. Both cross zero
+// together at F* = K_T / (1 + K_T/K_N): det K never changes sign.
+Network three_disk_chain(double force, double k_t) {
+  Network net;
+  net.boundary = Boundary::periodic;
+  net.material.k_n = 1e3;
+  net.material.k_t = k_t;
+  net.material.mu = 0.5;
+  const double d = 1.0 - force / net.material.k_n;
+  net.length = {3 * d, 3.0};
+  for (int i = 0; i < 3; ++i) {
+    net.x.push_back(0.5 + i * d);
+    net.y.push_back(1.5);
+    net.radius.push_back(0.5);
+    net.theta.push_back(0.0);
+  }
+  net.contacts.add(0, 1, 0, 0);
+  net.contacts.add(1, 2, 0, 0);
+  net.contacts.add(2, 0, 1, 0);
+  net.constraints.cell_free = {true, false};
+  net.constraints.rotation_fixed.assign(3, 1);
+  net.loading.sigma = {force / net.length[1], 0.0};
+  prepare(net, SolverOptions{});
+  return net;
+}
+
+TEST(NegativeEigenvalues, TwoTransverseModesCrossingTogetherAreABifurcation) {
+  const double k_t = 50.0, k_n = 1e3, f_star = k_t / (1.0 + k_t / k_n);
+  const Network net = three_disk_chain(10.0, k_t);
+  const double l2 = net.length[1];
+  const LoadPath axial = [l2](Network& n, double force) { n.loading.sigma = {force / l2, 0.0}; };
+  Q1Options o;
+  o.dq = 1.0;
+  o.dq_min = 1e-6;
+  o.load_stop = 2.0 * f_star;
+  const StabilityResult r = trace_to_instability(net, 10.0, axial, net.length, o);
+  EXPECT_EQ(r.criterion, Criterion::bifurcation) << r.detail;
+  EXPECT_LE(r.q1_bracket[0], f_star);
+  EXPECT_GE(r.q1_bracket[1], f_star);
+  EXPECT_LT(r.q1_bracket[1] - r.q1_bracket[0], 2e-6);
+  for (const CurvePoint& p : r.curve) EXPECT_EQ(p.determinant_sign, 1);
+  // The determinant sign alone walks through F* to the stop.
+  o.count_negative_eigenvalues = false;
+  const StabilityResult blind = trace_to_instability(net, 10.0, axial, net.length, o);
+  EXPECT_EQ(blind.criterion, Criterion::none) << blind.detail;
+  EXPECT_GT(blind.q1, 1.5 * f_star);
+}
+
+}  // namespace
+}  // namespace granstab::statics
