@@ -325,14 +325,17 @@ std::string network_at_q1_csv(const statics::StabilityResult& r) {
 
 std::string mode_csv(const statics::StabilityResult& r) {
   std::ostringstream s;
-  s << "disk,x,y,ux,uy,theta\n";
+  // active: the disk carries degrees of freedom of the mode (0 for rattlers, whose zero entries
+  // are no displacement and must not be drawn relative to the mean translation).
+  s << "disk,x,y,ux,uy,theta,active\n";
   const statics::Network& n = r.network_at_q1;
   for (std::size_t i = 0; 3 * i + 2 < r.mode.size() && i < n.n_disks(); ++i)
     s << i << ',' << json_number(n.x[i]) << ',' << json_number(n.y[i]) << ','
       << json_number(r.mode[3 * i]) << ',' << json_number(r.mode[3 * i + 1]) << ','
-      << json_number(r.mode[3 * i + 2]) << '\n';
-  s << "e1," << json_number(r.mode_cell[0]) << ",,,,\ne2," << json_number(r.mode_cell[1])
-    << ",,,,\n";
+      << json_number(r.mode[3 * i + 2]) << ','
+      << (i < r.mode_disk_active.size() && r.mode_disk_active[i] ? 1 : 0) << '\n';
+  s << "e1," << json_number(r.mode_cell[0]) << ",,,,,\ne2," << json_number(r.mode_cell[1])
+    << ",,,,,\n";
   return s.str();
 }
 

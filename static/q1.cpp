@@ -160,7 +160,10 @@ void record_instability(StabilityResult& result, const Network& net, const Predi
   const Eigen::VectorXd v = softest_mode(p);
   const DofMap& m = net.dofs;
   result.mode.assign(3 * net.n_disks(), 0.0);
+  result.mode_disk_active.assign(net.n_disks(), 0);
+  const auto kept = [&p](int d) { return d >= 0 && p.kept[d]; };
   for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    result.mode_disk_active[i] = kept(m.ux[i]) || kept(m.uy[i]) || kept(m.theta[i]);
     if (m.ux[i] >= 0) result.mode[3 * i] = v[m.ux[i]];
     if (m.uy[i] >= 0) result.mode[3 * i + 1] = v[m.uy[i]];
     if (m.theta[i] >= 0) result.mode[3 * i + 2] = v[m.theta[i]];

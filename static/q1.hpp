@@ -68,6 +68,9 @@ struct StabilityResult {
   // with the smallest |eigenvalue|, by inverse iteration; near the bracket it is the null vector.
   std::vector<double> mode;
   std::array<double, 2> mode_cell{0.0, 0.0};
+  // Per disk: 1 when the mode has degrees of freedom on it. Rattlers (also those created by the
+  // statuses of the check) have none and a zero entry in mode that is no displacement.
+  std::vector<char> mode_disk_active;
   Network network_at_q1;
   Timings timings;
   int steps = 0;

@@ -242,13 +242,21 @@ def plot_sample(d, info):
         rattler = {r["disk"]: r["rattler"] == "1" for r in disks}
         ux, uy = column(mode, "ux"), column(mode, "uy")
         # A uniform translation is a zero mode of a periodic cell (the solver pins it on one
-        # disk): draw the mode relative to the mean displacement of the force-carrying disks.
-        moving = [i for i, r in enumerate(mode) if not rattler.get(r["disk"], False)]
+        # disk): draw the mode relative to the mean displacement of the disks that carry its
+        # degrees of freedom (the 'active' column; older files: the non-rattlers). Rattlers, also
+        # those made by the statuses at q1, have none: no arrow.
+        if "active" in mode[0]:
+            moving = [i for i, r in enumerate(mode) if r["active"] == "1"]
+        else:
+            moving = [i for i, r in enumerate(mode) if not rattler.get(r["disk"], False)]
         if periodic and moving:
             mx = sum(ux[i] for i in moving) / len(moving)
             my = sum(uy[i] for i in moving) / len(moving)
-            ux = [u - mx if i in moving else 0.0 for i, u in enumerate(ux)]
-            uy = [u - my if i in moving else 0.0 for i, u in enumerate(uy)]
+            ux = [u - mx for u in ux]
+            uy = [u - my for u in uy]
+        still = set(range(len(mode))) - set(moving)
+        ux = [0.0 if i in still else u for i, u in enumerate(ux)]
+        uy = [0.0 if i in still else u for i, u in enumerate(uy)]
         umax = max(max(abs(u) for u in ux), max(abs(u) for u in uy), 1e-300)
         scale = 0.9 / umax  # the largest arrow is 0.9 a long
         xs = [wrap(float(r["x"]), L1) for r in mode]

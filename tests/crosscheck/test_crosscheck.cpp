@@ -7,6 +7,9 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "common/io/configuration_file.hpp"
 #include "drivers/crosscheck.hpp"
@@ -150,6 +153,44 @@ TEST(StaticVsDynamic, AgreeWithinTheToleranceBoundAndTightenWithTheTolerance) {
   // order of the tolerance, not of a model mismatch, which would not depend on it).
   EXPECT_LT(b.max_abs_diff_eps2, 0.1 * a.max_abs_diff_eps2);
   EXPECT_LT(b.max_abs_diff_epsv, 0.1 * a.max_abs_diff_epsv);
+}
+
+// The mode file marks the disks that carry the mode's degrees of freedom: rattlers (zero entries
+// that are no displacement) must not be drawn relative to the mean translation (plot_compare.py).
+TEST(ModeFile, MarksTheDisksThatCarryTheMode) {
+  Configuration c = biaxial_start(read_configuration(sample_path), 0.15);
+  statics::Q1Options o;
+  o.dq = 1e-2;
+  o.hill = false;
+  const statics::StabilityResult r = statics::find_q1(c, o);
+  ASSERT_NE(r.criterion, statics::Criterion::none);
+  const std::string csv = mode_csv(r);
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "disk,x,y,ux,uy,theta,active");
+  int active = 0, inactive = 0;
+  const statics::DofMap& m = r.network_at_q1.dofs;
+  while (std::getline(in, line)) {
+    if (line.rfind("e", 0) == 0) continue;
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    ASSERT_EQ(f.size(), 7u) << line;
+    const std::size_t i = std::stoul(f[0]);
+    const bool is_active = f[6] == "1";
+    EXPECT_EQ(is_active, m.active(i)) << line;  // no status rattler at this q1
+    if (!is_active) {
+      ++inactive;
+      EXPECT_EQ(std::stod(f[3]), 0.0);
+      EXPECT_EQ(std::stod(f[4]), 0.0);
+      EXPECT_EQ(std::stod(f[5]), 0.0);
+    } else {
+      ++active;
+    }
+  }
+  EXPECT_GT(inactive, 0);  // the sample has rattlers
+  EXPECT_GT(active, 80);
 }
 
 }  // namespace
