@@ -78,6 +78,13 @@ int compare_killed_with_uninterrupted(const Scenario& s, const std::vector<int>&
     }
     EXPECT_EQ(run.wait(), 128 + SIGKILL);
     ++kills;
+    // A CSV flushed after the last checkpoint (the commands also flush every 30 s) holds rows
+    // the checkpoint does not know: simulate one, the resume must cut it away.
+    for (const auto& e : fs::directory_iterator(killed.path())) {
+      if (e.path().extension() == ".csv") {
+        testing::spit(e.path(), testing::slurp(e.path()) + "1,2,3\n");
+      }
+    }
   }
   if (!finished) {
     Child rest(killed.path(), {"resume", "--quiet", s.checkpoint});
@@ -186,10 +193,11 @@ csv = "creep.csv"
 hold_sample = "hold.granstab"
 sample = "final.granstab"
 [checkpoint]
-every_steps = 300
+every_steps = 2000
 )",
        "creep.checkpoint"},
-      {2, 4, 4, 6, 6});
+      // About 25 checkpoints: 5 in the SRC phase, 17 in the hold, 3 in the resumed SRC.
+      {3, 5, 6, 8, 6});
   EXPECT_GE(kills, 2);
 }
 
