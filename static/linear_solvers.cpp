@@ -1,5 +1,6 @@
 #include "static/linear_solvers.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -35,6 +36,75 @@ struct LuFactor::Impl {
   }
 };
 
+namespace {
+
+void umfpack_control(double* control) {
+  umfpack_di_defaults(control);
+  control[UMFPACK_PRL] = 0;
+}
+
+// Symbolic analyses (orderings) of the last few sparsity patterns factorised in this thread: a load
+// step refactorises the same pattern many times (status iterations, Newton, the stability check).
+class SymbolicCache {
+ public:
+  ~SymbolicCache() {
+    for (Entry& e : entries_)
+      if (e.symbolic) umfpack_di_free_symbolic(&e.symbolic);
+  }
+  // The analysis of k's pattern, computed on a miss; nullptr if UMFPACK fails.
+  void* get(const SparseMatrix& k, const double* control, bool& reused) {
+    const int n = static_cast<int>(k.rows());
+    const Eigen::Index nnz = k.nonZeros();
+    for (std::size_t e = 0; e < entries_.size(); ++e) {
+      Entry& x = entries_[e];
+      if (x.n != n || static_cast<Eigen::Index>(x.row.size()) != nnz) continue;
+      if (!std::equal(x.col.begin(), x.col.end(), k.outerIndexPtr()) ||
+          !std::equal(x.row.begin(), x.row.end(), k.innerIndexPtr()))
+        continue;
+      std::rotate(entries_.begin(), entries_.begin() + e, entries_.begin() + e + 1);  // most recent first
+      reused = true;
+      return entries_.front().symbolic;
+    }
+    reused = false;
+    double info[UMFPACK_INFO];
+    void* symbolic = nullptr;
+    // With the values, as a fresh analysis would be made (UMFPACK reads them for statistics and
+    // the strategy choice only; the analysis holds for any values on the pattern).
+    if (umfpack_di_symbolic(n, n, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(), &symbolic,
+                            control, info) != UMFPACK_OK) {
+      if (symbolic) umfpack_di_free_symbolic(&symbolic);
+      return nullptr;
+    }
+    if (entries_.size() == capacity) {
+      umfpack_di_free_symbolic(&entries_.back().symbolic);
+      entries_.pop_back();
+    }
+    Entry x;
+    x.n = n;
+    x.col.assign(k.outerIndexPtr(), k.outerIndexPtr() + n + 1);
+    x.row.assign(k.innerIndexPtr(), k.innerIndexPtr() + nnz);
+    x.symbolic = symbolic;
+    entries_.insert(entries_.begin(), std::move(x));
+    return symbolic;
+  }
+
+ private:
+  static constexpr std::size_t capacity = 4;
+  struct Entry {
+    int n = 0;
+    std::vector<int> col, row;
+    void* symbolic = nullptr;
+  };
+  std::vector<Entry> entries_;
+};
+
+SymbolicCache& symbolic_cache() {
+  thread_local SymbolicCache cache;
+  return cache;
+}
+
+}  // namespace
+
 LuFactor::LuFactor() : impl_(std::make_unique<Impl>()) {}
 LuFactor::~LuFactor() = default;
 
@@ -43,6 +113,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   if (m.numeric) umfpack_di_free_numeric(&m.numeric);
   det_sign_ = 0;
   log10_det_ = -INFINITY;
+  symbolic_reused_ = false;
   m.k = k;
   m.k.makeCompressed();
   const int n = static_cast<int>(m.k.rows());
@@ -52,18 +123,11 @@ bool LuFactor::factorize(const SparseMatrix& k) {
     return true;
   }
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
-  umfpack_di_defaults(control);
-  control[UMFPACK_PRL] = 0;
-  void* symbolic = nullptr;
-  int status = umfpack_di_symbolic(n, n, m.k.outerIndexPtr(), m.k.innerIndexPtr(),
-                                   m.k.valuePtr(), &symbolic, control, info);
-  if (status != UMFPACK_OK) {
-    if (symbolic) umfpack_di_free_symbolic(&symbolic);
-    return false;
-  }
-  status = umfpack_di_numeric(m.k.outerIndexPtr(), m.k.innerIndexPtr(), m.k.valuePtr(), symbolic,
-                              &m.numeric, control, info);
-  umfpack_di_free_symbolic(&symbolic);
+  umfpack_control(control);
+  void* symbolic = symbolic_cache().get(m.k, control, symbolic_reused_);
+  if (!symbolic) return false;
+  const int status = umfpack_di_numeric(m.k.outerIndexPtr(), m.k.innerIndexPtr(),
+                                        m.k.valuePtr(), symbolic, &m.numeric, control, info);
   if (status != UMFPACK_OK) {  // includes UMFPACK_WARNING_singular_matrix
     if (m.numeric) umfpack_di_free_numeric(&m.numeric);
     return false;
@@ -83,8 +147,7 @@ Eigen::VectorXd umfpack_solve(int sys, const SparseMatrix& k, void* numeric,
   if (!numeric) throw std::logic_error("LuFactor::solve without a successful factorisation");
   Eigen::VectorXd x(b.size());
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
-  umfpack_di_defaults(control);
-  control[UMFPACK_PRL] = 0;
+  umfpack_control(control);
   const int status = umfpack_di_solve(sys, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(),
                                       x.data(), b.data(), numeric, control, info);
   if (status != UMFPACK_OK) throw std::runtime_error("UMFPACK solve failed");

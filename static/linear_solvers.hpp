@@ -37,8 +37,12 @@ class LuFactor {
   LuFactor(const LuFactor&) = delete;
   LuFactor& operator=(const LuFactor&) = delete;
 
-  // Returns false when UMFPACK finds the matrix singular (or fails).
+  // Returns false when UMFPACK finds the matrix singular (or fails). The symbolic analysis
+  // (ordering) of a recent factorisation in this thread is reused when k has exactly the same
+  // sparsity pattern; only the numeric factorisation is then redone.
   bool factorize(const SparseMatrix& k);
+  // Whether the last factorize reused a cached symbolic analysis.
+  bool symbolic_reused() const { return symbolic_reused_; }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::VectorXd solve_transpose(const Eigen::VectorXd& b) const;
   // Sign of det K (+1, -1; 0 when singular) and log10 |det K|.
@@ -50,6 +54,7 @@ class LuFactor {
   std::unique_ptr<Impl> impl_;
   int det_sign_ = 0;
   double log10_det_ = 0.0;
+  bool symbolic_reused_ = false;
 };
 
 // The submatrix on the kept indices (keep[i] != 0), in order, and the maps between the two.

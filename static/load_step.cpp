@@ -41,7 +41,11 @@ bool solve_kept(const SparseMatrix& k, const std::vector<char>& kept, const Eige
   const auto t0 = Clock::now();
   const bool ok = lu.factorize(reduce(k, make_reduction(kept))) &&
                   solve_factored(k, kept, lu, b, x, check_pinned);
-  if (timings) timings->factorisation += seconds_since(t0);
+  if (timings) {
+    timings->factorisation += seconds_since(t0);
+    ++timings->factorisations;
+    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
+  }
   return ok;
 }
 
@@ -95,6 +99,7 @@ NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
       result.converged = true;
       break;
     }
+    if (timings) ++timings->newton_iterations;
     auto t0 = Clock::now();
     std::vector<ContactStatus> statuses(states.size());
     for (std::size_t c = 0; c < states.size(); ++c) statuses[c] = states[c].status;
@@ -167,6 +172,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   p.failure = "iterations";
   for (int it = 0; it < options.max_status_iterations; ++it) {
     p.iterations = it + 1;
+    if (timings) ++timings->status_iterations;
     const std::string key(reinterpret_cast<const char*>(p.statuses.data()), p.statuses.size());
     if (!seen.insert(key).second) {
       p.failure = "cycle";

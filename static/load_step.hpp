@@ -32,6 +32,9 @@ double relative_residual(const Network& net, const Eigen::VectorXd& r, const Res
 
 struct Timings {
   double assembly = 0.0, factorisation = 0.0, complementarity = 0.0, corrector = 0.0;
+  // Counts behind the seconds (bench/static): LU factorisations and the symbolic analyses among
+  // them, status iterations of the complementarity loops, Newton iterations of the correctors.
+  int factorisations = 0, symbolic_analyses = 0, status_iterations = 0, newton_iterations = 0;
 };
 
 struct NewtonResult {

@@ -1,10 +1,13 @@
 // Timing of the static solver (issue #5): one load step split into assembly, factorisation and
 // complementarity, and optionally the whole q1 run, on a shipped periodic sample tiled
 // nx x ny times. Not part of ctest.
-//   bench_static SAMPLE [nx ny] [steps] [q1]
+//   bench_static SAMPLE [nx ny] [steps] [q1 [CURVE.csv]]
+// With CURVE.csv, the q1 run's curve (the columns of granstab q1 that do not depend on timing or
+// the Hill indicator) is written there, to compare solver changes.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 #include "common/io/configuration_file.hpp"
@@ -16,7 +19,7 @@ using namespace granstab;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s SAMPLE [nx ny] [steps] [q1]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s SAMPLE [nx ny] [steps] [q1 [CURVE.csv]]\n", argv[0]);
     return 2;
   }
   const int nx = argc > 3 ? std::atoi(argv[2]) : 1, ny = argc > 3 ? std::atoi(argv[3]) : 1;
@@ -42,20 +45,39 @@ int main(int argc, char** argv) {
   const double t_steps = std::chrono::duration<double>(Clock::now() - t1).count();
   std::printf("N = %zu, dofs = %d, contacts = %zu, prepare %.3f s\n", config.disks.size(),
               net.dofs.size, net.contacts.size(), t_prepare);
-  std::printf("%d load steps of dq = 1e-3: %.4f s per step (assembly %.4f, factorisation %.4f, "
-              "complementarity loop %.4f incl. its assembly and factorisation, corrector %.4f)\n",
-              done, t_steps / done, timings.assembly / done, timings.factorisation / done,
-              timings.complementarity / done, timings.corrector / done);
+  if (done > 0)
+    std::printf("%d load steps of dq = 1e-3: %.4f s per step (assembly %.4f, factorisation %.4f, "
+                "complementarity loop %.4f incl. its assembly and factorisation, corrector %.4f); "
+                "per step %.2f LU factorisations (%.2f symbolic), %.2f status iterations, "
+                "%.2f Newton iterations\n",
+                done, t_steps / done, timings.assembly / done, timings.factorisation / done,
+                timings.complementarity / done, timings.corrector / done,
+                double(timings.factorisations) / done, double(timings.symbolic_analyses) / done,
+                double(timings.status_iterations) / done, double(timings.newton_iterations) / done);
   if (q1) {
     statics::Q1Options o;
     o.hill = false;
     const auto t2 = Clock::now();
     const statics::StabilityResult r = statics::find_q1(config, o);
-    std::printf("q1 = %.6f (%s), %d steps, %.2f s (assembly %.2f, factorisation %.2f, "
-                "complementarity loops %.2f, correctors %.2f)\n",
-                r.q1, statics::criterion_name(r.criterion), r.steps,
-                std::chrono::duration<double>(Clock::now() - t2).count(), r.timings.assembly,
-                r.timings.factorisation, r.timings.complementarity, r.timings.corrector);
+    int rejected = 0;
+    for (const auto& [reason, n] : r.rejected) rejected += n;
+    const statics::Timings& t = r.timings;
+    if (argc > 6) {
+      std::FILE* f = std::fopen(argv[6], "w");
+      if (!f) throw std::runtime_error(std::string("cannot write ") + argv[6]);
+      std::fprintf(f, "load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,det_sign,new_contacts\n");
+      for (const statics::CurvePoint& p : r.curve)
+        std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%d\n", p.load, p.q, p.eps1, p.eps2,
+                     p.epsv, p.n_sliding, p.determinant_sign, p.new_contacts);
+      std::fclose(f);
+    }
+    std::printf("q1 = %.9f in [%.9f, %.9f] (%s), %d steps + %d rejected, %.2f s (assembly %.2f, "
+                "factorisation %.2f, complementarity loops %.2f, correctors %.2f); "
+                "%d LU factorisations (%d symbolic), %d status iterations, %d Newton iterations\n",
+                r.q1, r.q1_bracket[0], r.q1_bracket[1], statics::criterion_name(r.criterion),
+                r.steps, rejected, std::chrono::duration<double>(Clock::now() - t2).count(),
+                t.assembly, t.factorisation, t.complementarity, t.corrector, t.factorisations,
+                t.symbolic_analyses, t.status_iterations, t.newton_iterations);
   }
   return 0;
 }

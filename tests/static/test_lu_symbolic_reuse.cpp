@@ -1,0 +1,100 @@
+// LuFactor reuses the symbolic analysis of an identical sparsity pattern (static/linear_solvers):
+// the reuse must be detected exactly (same pattern only), and a reused analysis must give the
+// same bits as a fresh one (the q1 stepping follows round-off, docs/static.md "Performance").
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+#include <Eigen/Dense>
+
+#include "static/linear_solvers.hpp"
+
+namespace granstab::statics {
+namespace {
+
+// A random unsymmetric matrix on the pattern of a 2D 5-point grid plus a few extra couplings,
+// diagonally weighted by `diagonal` (negative entries make det < 0 for suitable values).
+SparseMatrix grid_matrix(int side, unsigned seed, double diagonal, bool extra) {
+  const int n = side * side;
+  std::vector<Eigen::Triplet<double>> t;
+  unsigned state = seed;
+  const auto next = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return (state >> 8) / double(1u << 24) - 0.5;
+  };
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const int i = y * side + x;
+      t.emplace_back(i, i, diagonal + next());
+      if (x + 1 < side) {
+        t.emplace_back(i, i + 1, next());
+        t.emplace_back(i + 1, i, next());
+      }
+      if (y + 1 < side) {
+        t.emplace_back(i, i + side, next());
+        t.emplace_back(i + side, i, next());
+      }
+    }
+  if (extra) t.emplace_back(0, n - 1, 0.25);
+  SparseMatrix k(n, n);
+  k.setFromTriplets(t.begin(), t.end());
+  k.makeCompressed();
+  return k;
+}
+
+Eigen::VectorXd fresh_solve(const SparseMatrix& k, const Eigen::VectorXd& b, int& sign) {
+  // A new thread has an empty cache: the analysis is made from scratch.
+  Eigen::VectorXd x;
+  std::thread worker([&] {
+    LuFactor lu;
+    EXPECT_TRUE(lu.factorize(k));
+    EXPECT_FALSE(lu.symbolic_reused());
+    x = lu.solve(b);
+    sign = lu.determinant_sign();
+  });
+  worker.join();
+  return x;
+}
+
+TEST(LuSymbolicReuse, SamePatternReusedBitIdenticalDifferentPatternNot) {
+  const SparseMatrix a = grid_matrix(12, 1u, 4.0, false);
+  const SparseMatrix b = grid_matrix(12, 2u, 4.0, false);  // same pattern, other values
+  const SparseMatrix c = grid_matrix(12, 3u, 4.0, true);   // one more entry
+  const Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(a.rows(), -1.0, 2.0);
+  LuFactor lu;
+  ASSERT_TRUE(lu.factorize(a));
+  ASSERT_TRUE(lu.factorize(b));
+  EXPECT_TRUE(lu.symbolic_reused());
+  const Eigen::VectorXd x = lu.solve(rhs);
+  EXPECT_LT((b * x - rhs).norm(), 1e-12 * rhs.norm());
+  int sign = 0;
+  const Eigen::VectorXd x_fresh = fresh_solve(b, rhs, sign);
+  EXPECT_EQ(sign, lu.determinant_sign());
+  for (Eigen::Index i = 0; i < x.size(); ++i) EXPECT_EQ(x[i], x_fresh[i]) << "entry " << i;
+  LuFactor other;
+  ASSERT_TRUE(other.factorize(c));
+  EXPECT_FALSE(other.symbolic_reused());
+  EXPECT_LT((c * other.solve(rhs) - rhs).norm(), 1e-12 * rhs.norm());
+}
+
+TEST(LuSymbolicReuse, DeterminantSignWithReusedAnalysis) {
+  // Same pattern, diagonal shifted through the spectrum: the sign must follow the dense value.
+  LuFactor lu;
+  int negative = 0;
+  for (double diagonal : {4.0, 0.3, -0.2, -4.0}) {
+    const SparseMatrix k = grid_matrix(8, 7u, diagonal, false);
+    ASSERT_TRUE(lu.factorize(k));
+    const double det = Eigen::MatrixXd(k).determinant();
+    EXPECT_EQ(lu.determinant_sign(), det > 0.0 ? 1 : -1) << "diagonal " << diagonal;
+    EXPECT_NEAR(lu.log10_abs_determinant(), std::log10(std::abs(det)), 1e-8);
+    if (diagonal != 4.0) {
+      EXPECT_TRUE(lu.symbolic_reused());
+    }
+    negative += det < 0.0;
+  }
+  EXPECT_GT(negative, 0);  // both signs are exercised
+}
+
+}  // namespace
+}  // namespace granstab::statics
