@@ -135,6 +135,15 @@ void add_compare_command(CLI::App& app) {
                   "the dynamic run stops when epsilon_2 exceeds this (the sample flows)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--dynamic-substeps", o->run.dynamic_substeps,
+                  "dynamic run: each delta q as N stress steps of delta q / N (a staircase "
+                  "ramp), states recorded at multiples of delta q only")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--static-substeps", o->run.static_substeps,
+                  "static run: steps of delta q / N, states compared at multiples of delta q")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("!--no-hill", o->run.statics.hill,
                 "skip the Hill indicator of the static states (faster)");
   cmd->callback([o] { run_compare(*o); });

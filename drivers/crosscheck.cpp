@@ -157,14 +157,20 @@ DynamicRun run_dynamic(const Configuration& start, const CrosscheckOptions& opti
   const double pressure = start.stage.sigma_ext[0];
   protocols::begin_biaxial_stage(engine, start.material, pressure);
   protocols::StressStepOptions sic;
-  sic.delta_q = options.dq;
+  const int substeps = std::max(1, options.dynamic_substeps);
+  sic.delta_q = options.dq / substeps;
   sic.q_max = q_end;
   sic.epsilon_2_max = options.epsilon_2_max;
   sic.equilibration = options.equilibration;
   DynamicRun run;
   Configuration state;
-  const auto record = [&run](const Engine&, const Configuration& s,
-                             const protocols::StressStepRecord& r) {
+  std::uint64_t steps_since_record = 0;
+  const auto record = [&run, &steps_since_record, substeps, sic](
+                          const Engine&, const Configuration& s,
+                          const protocols::StressStepRecord& r) {
+    steps_since_record += r.steps;
+    const long k = std::lround(r.q_target / sic.delta_q);
+    if (r.equilibrium.reached && k % substeps != 0) return;  // between two recorded states
     const Measurements m = measure(s);
     DynamicPoint p;
     p.q_target = r.q_target;
@@ -173,7 +179,8 @@ DynamicRun run_dynamic(const Configuration& start, const CrosscheckOptions& opti
     p.eps2 = m.epsilon_2;
     p.epsv = m.epsilon_v;
     p.n_sliding = m.n_sliding;
-    p.steps = r.steps;
+    p.steps = steps_since_record;
+    steps_since_record = 0;
     p.reached = r.equilibrium.reached;
     p.max_net_force = r.equilibrium.report.max_net_force;
     p.max_net_torque = r.equilibrium.report.max_net_torque;
@@ -195,14 +202,16 @@ CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOpt
     throw std::invalid_argument("compare: --q-max must be > 0");
   if (options.steps_after_q1 < 0)
     throw std::invalid_argument("compare: steps after q1 must be >= 0");
+  if (options.dynamic_substeps < 1 || options.static_substeps < 1)
+    throw std::invalid_argument("compare: --dynamic-substeps and --static-substeps must be >= 1");
   CrosscheckResult out;
   out.mu = std::isnan(options.mu) ? sample.material.mu : options.mu;
   out.start = biaxial_start(sample, out.mu);
   out.pressure = out.start.stage.sigma_ext[0];
 
   statics::Q1Options so = options.statics;
-  so.dq = options.dq;
-  so.dq_min = std::min(so.dq_min, options.dq);
+  so.dq = options.dq / options.static_substeps;
+  so.dq_min = std::min(so.dq_min, so.dq);
   so.control = statics::Control::stress;
   so.load_stop = options.q_max;
   auto t0 = std::chrono::steady_clock::now();
@@ -351,6 +360,8 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"mu\": " << json_number(r.mu) << ",\n"
     << "  \"pressure\": " << json_number(r.pressure) << ",\n"
     << "  \"dq\": " << json_number(x.dq) << ",\n"
+    << "  \"dynamic_substeps\": " << o.dynamic_substeps << ",\n"
+    << "  \"static_substeps\": " << o.static_substeps << ",\n"
     << "  \"q_max\": " << json_number(x.q_max) << ",\n"
     << "  \"q1\": " << json_number(r.statics.q1) << ",\n"
     << "  \"q1_bracket\": [" << json_number(r.statics.q1_bracket[0]) << ", "

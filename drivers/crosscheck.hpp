@@ -30,6 +30,13 @@ struct CrosscheckOptions {
   // Dynamic SIC: wait for equilibrium (SPEC §3.1 tolerances) after each increment.
   protocols::EquilibrationOptions equilibration{{}, 200, 2'000'000};
   double epsilon_2_max = 0.05;  // the dynamic run stops when the sample flows beyond this
+  // The dynamic run applies each delta q as this many stress steps of delta q / n, each waited
+  // for equilibrium, and records the states at q = k delta q only: a staircase ramp that shrinks
+  // the transient overshoot of a stress step (docs/user-guide.md); 1 is SPEC §3.3 SIC with delta q.
+  int dynamic_substeps = 1;
+  // The static run steps by delta q / n (its states at q = k delta q are the ones compared): it
+  // shrinks the static path error of one linear predictor per step with status changes inside.
+  int static_substeps = 1;
   EngineOptions engine;
   // Static stepping (its dq is set from dq above).
   statics::Q1Options statics;
