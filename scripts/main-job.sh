@@ -22,4 +22,10 @@ for run in "0.5 0.001" "0.15 0.001" "0.5 0.01" "0.15 0.01"; do
   OMP_NUM_THREADS=1 "$granstab" compare "$sample" --dq "$dq" --mu "$mu" --out "$out"
   "$granstab" plot "$out"
 done
+# The stress-step overshoot of issue #6 removed (docs/user-guide.md): mu = 0.15, delta q = 0.01,
+# each delta q applied as 100 dynamic stress steps and 10 static steps, compared at q = k delta q.
+out="$results/mu0.15-dq0.01-substeps"
+OMP_NUM_THREADS=1 "$granstab" compare "$sample" --dq 0.01 --mu 0.15 --dynamic-substeps 100 \
+  --static-substeps 10 --out "$out"
+"$granstab" plot "$out"
 echo "main job done: results and pictures (curves, difference, sample_at_q1 .png/.svg) in $results/mu*-dq*/"
