@@ -103,7 +103,9 @@ NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
     auto t0 = Clock::now();
     std::vector<ContactStatus> statuses(states.size());
     for (std::size_t c = 0; c < states.size(); ++c) statuses[c] = states[c].status;
-    const SparseMatrix k = assemble_tangent(net, states, statuses);
+    TangentParts parts;
+    parts.fixed_pattern = options.fixed_pattern;
+    const SparseMatrix k = assemble_tangent(net, states, statuses, parts);
     const std::vector<char> kept = kept_dofs(net, states, statuses);
     if (timings) timings->assembly += seconds_since(t0);
     Eigen::VectorXd step;
@@ -194,7 +196,9 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       }
     } else {
       auto t0 = Clock::now();
-      p.tangent = assemble_tangent(net, states, p.statuses);
+      TangentParts parts;
+      parts.fixed_pattern = options.fixed_pattern;
+      p.tangent = assemble_tangent(net, states, p.statuses, parts);
       p.kept = kept_dofs(net, states, p.statuses);
       if (timings) timings->assembly += seconds_since(t0);
       factor = std::make_shared<LuFactor>();

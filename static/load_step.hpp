@@ -20,6 +20,9 @@ struct SolverOptions {
   int max_newton_iterations = 40;
   int max_status_iterations = 200;
   int max_closing_rounds = 5;
+  // Tangents of the predictor and corrector with a fixed sparsity pattern (TangentParts): fewer
+  // symbolic analyses, but other round-off, hence another path and q1 (docs/static.md).
+  bool fixed_pattern = false;
 };
 
 // Force, torque and cell-row scales of the relative residual (mean contact force, mean radius,

@@ -56,16 +56,19 @@ void add_load_stiffness(const Network& net, std::vector<Eigen::Triplet<double>>&
 SparseMatrix assemble_tangent(const Network& net, const std::vector<ContactState>& states,
                               const std::vector<ContactStatus>& statuses,
                               const TangentParts& parts) {
+  // all: every listed contact writes its whole block (TangentParts::fixed_pattern).
+  const bool all = parts.fixed_pattern;
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(states.size() * 40 + 2);
+  triplets.reserve(states.size() * (all ? n_local * n_local : 40) + 2);
   for (std::size_t c = 0; c < states.size(); ++c) {
-    if (statuses[c] == ContactStatus::open && states[c].f_n == 0.0) continue;
+    if (!all && statuses[c] == ContactStatus::open && states[c].f_n == 0.0) continue;
     const LocalMatrix k = contact_stiffness(net, states[c], statuses[c], parts);
     const auto& dof = states[c].rows.dof;
     for (int a = 0; a < n_local; ++a) {
       if (dof[a] < 0) continue;
       for (int b = 0; b < n_local; ++b)
-        if (dof[b] >= 0 && k[a][b] != 0.0) triplets.emplace_back(dof[a], dof[b], k[a][b]);
+        if (dof[b] >= 0 && (all || k[a][b] != 0.0))
+          triplets.emplace_back(dof[a], dof[b], k[a][b]);
     }
   }
   if (parts.load) add_load_stiffness(net, triplets);

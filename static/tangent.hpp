@@ -14,6 +14,11 @@ struct TangentParts {
   bool material = true;   // B^T k B per status
   bool geometric = true;  // rotation of the loaded contact frames and the lever arms a = R - h/2
   bool load = true;       // work of the Cauchy stresses on the deforming cell
+  // Write every contact's whole block, zeros included, so that the sparsity pattern depends on the
+  // contact list and the dofs only and LuFactor reuses its symbolic analysis across status changes.
+  // Same values; only the LU's pivot order (round-off) changes, which moves q1 of the shipped
+  // samples (docs/static.md "Performance"), hence off by default.
+  bool fixed_pattern = false;
 };
 
 // Local 8 x 8 stiffness of one contact (slots of ContactRows) for the given status. The stick

@@ -1,7 +1,8 @@
 // Timing of the static solver (issue #5): one load step split into assembly, factorisation and
 // complementarity, and optionally the whole q1 run, on a shipped periodic sample tiled
 // nx x ny times. Not part of ctest.
-//   bench_static SAMPLE [nx ny] [steps] [q1 [CURVE.csv]]
+//   bench_static SAMPLE [nx ny] [steps] [q1|q1-fixed [CURVE.csv]]
+// q1-fixed: the same with SolverOptions::fixed_pattern (symbolic reuse across status changes).
 // With CURVE.csv, the q1 run's curve (the columns of granstab q1 that do not depend on timing or
 // the Hill indicator) is written there, to compare solver changes.
 #include <chrono>
@@ -19,12 +20,13 @@ using namespace granstab;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s SAMPLE [nx ny] [steps] [q1 [CURVE.csv]]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s SAMPLE [nx ny] [steps] [q1|q1-fixed [CURVE.csv]]\n", argv[0]);
     return 2;
   }
   const int nx = argc > 3 ? std::atoi(argv[2]) : 1, ny = argc > 3 ? std::atoi(argv[3]) : 1;
   const int steps = argc > 4 ? std::atoi(argv[4]) : 10;
-  const bool q1 = argc > 5 && std::string(argv[5]) == "q1";
+  const bool fixed = argc > 5 && std::string(argv[5]) == "q1-fixed";
+  const bool q1 = argc > 5 && (std::string(argv[5]) == "q1" || fixed);
   const Configuration config = bench::tile(read_configuration(argv[1]), nx, ny);
   using Clock = std::chrono::steady_clock;
 
@@ -57,6 +59,7 @@ int main(int argc, char** argv) {
   if (q1) {
     statics::Q1Options o;
     o.hill = false;
+    o.solver.fixed_pattern = fixed;
     const auto t2 = Clock::now();
     const statics::StabilityResult r = statics::find_q1(config, o);
     int rejected = 0;
