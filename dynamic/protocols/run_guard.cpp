@@ -146,9 +146,11 @@ void RunGuard::safe_point(const Engine& engine, const Builder& build) {
   const auto now = std::chrono::steady_clock::now();
   const bool due =
       signal != 0 ||
-      (settings_.every_steps > 0 && step - last_written_step_ >= settings_.every_steps) ||
+      (settings_.every_steps > 0 && last_written_step_ &&
+       step - *last_written_step_ >= settings_.every_steps) ||
       (settings_.every_seconds > 0.0 &&
        std::chrono::duration<double>(now - last_written_time_).count() >= settings_.every_seconds);
+  if (!last_written_step_) last_written_step_ = step;
   if (!sanity_due && !due) return;
   sanity(engine);  // a checkpoint never holds a state that was not checked
   last_sane_ = build();
@@ -169,7 +171,8 @@ bool RunGuard::wants(const Engine& engine) const {
   const std::uint64_t step = engine.step_count();
   return caught != 0 || !last_checked_step_ ||
          step - *last_checked_step_ >= settings_.sanity_every_steps ||
-         (settings_.every_steps > 0 && step - last_written_step_ >= settings_.every_steps) ||
+         !last_written_step_ ||
+         (settings_.every_steps > 0 && step - *last_written_step_ >= settings_.every_steps) ||
          (settings_.every_seconds > 0.0 &&
           std::chrono::duration<double>(std::chrono::steady_clock::now() - last_written_time_)
                   .count() >= settings_.every_seconds);

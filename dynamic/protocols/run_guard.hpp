@@ -108,7 +108,9 @@ class RunGuard {
   std::function<void()> flush_;
   std::optional<Checkpoint> last_sane_;
   std::optional<std::uint64_t> last_sane_step_, last_checked_step_;
-  std::uint64_t last_written_step_ = 0;
+  // The step of the last checkpoint written, or of the first safe point (steps are counted from
+  // there, so a run does not write one at its start).
+  std::optional<std::uint64_t> last_written_step_;
   std::chrono::steady_clock::time_point last_written_time_;
   std::size_t written_ = 0;
   Configuration exported_;  // storage reused by the sanity checks
