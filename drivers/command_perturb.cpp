@@ -2,6 +2,7 @@
 // random constant forces on every disk (components uniform in [-f0, f0]), new equilibrium,
 // strain changes recorded; repeated with fresh draws. Settings: docs/protocols.md.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "common/measurements.hpp"
 #include "common/progress.hpp"
 #include "common/run_config.hpp"
+#include "dynamic/protocols/biaxial.hpp"
 #include "dynamic/protocols/json_summary.hpp"
 #include "dynamic/protocols/perturbation.hpp"
 #include "dynamic/protocols/settings.hpp"
@@ -54,6 +56,8 @@ PerturbSettings read_settings(const protocols::Invocation& invocation) {
   s.perturbation.f0 = rc.number("perturb.f0", 1e-3, 1e-12, 10.0);
   s.perturbation.repetitions = static_cast<int>(rc.integer("perturb.repetitions", 10, 1, 1'000'000));
   s.perturbation.release = rc.boolean("perturb.release", true);
+  s.perturbation.failure_delta_epsilon_2 =
+      rc.number("perturb.failure_delta_epsilon_2", 0.1, 1e-9, 0.9);
   s.perturbation.equilibration = protocols::read_equilibration(rc);
   s.engine = protocols::read_engine_options(rc);
   s.csv = protocols::required_path(rc, "output.csv");
@@ -96,6 +100,7 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
   const bool resume_initial = checkpoint && resume_cursor.phase == initial_phase;
   std::optional<CsvWriter> csv;
   int draws = 0, reached = 0;
+  bool flowed = false;  // a wait ended by the strain guard
   protocols::EquilibrationResult initial;
   protocols::RunGuard guard(s.guard, "perturb");
   const auto build = [&](const Engine& e, const protocols::Cursor& cursor) {
@@ -120,12 +125,21 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
     protocols::LoopControl control{hooks, protocols::Cursor{}, resume_initial};
     if (resume_initial) control.cursor = resume_cursor;
     control.cursor.phase = initial_phase;
-    initial = protocols::run_to_equilibrium(engine, s.perturbation.equilibration, state, {}, {},
-                                            {}, control);
+    const double epsilon_2_start = strains(s.sample)[1];
+    const auto flows = [&](const Engine& e, const Configuration&, const EquilibriumReport&) {
+      return std::abs(protocols::axial_strain(e) - epsilon_2_start) <=
+             s.perturbation.failure_delta_epsilon_2;
+    };
+    initial = protocols::run_to_equilibrium(engine, s.perturbation.equilibration, state, flows,
+                                            {}, {}, control);
     if (!initial.reached) {
       guard.finish();
-      throw std::runtime_error("perturb: the sample does not reach equilibrium at q = " +
-                               std::to_string(q) + " before any perturbation");
+      throw std::runtime_error(
+          "perturb: the sample does not reach equilibrium at q = " + std::to_string(q) +
+          " before any perturbation" +
+          (initial.aborted ? " (the strain guard fired: epsilon_2 moved by more than "
+                             "perturb.failure_delta_epsilon_2; the sample flows)"
+                           : " (equilibrium.max_steps reached)"));
     }
   } else {
     initial.reached = true;
@@ -155,6 +169,7 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
               r.released.reached ? 1.0 : 0.0, m.q, m.max_net_force});
     ++draws;
     reached += r.loaded.reached && (!s.perturbation.release || r.released.reached);
+    flowed = flowed || r.loaded.aborted || r.released.aborted;
     char detail[96];
     std::snprintf(detail, sizeof detail, "delta epsilon_2 %.3g", r.delta_epsilon_2);
     progress.update(r.draw, detail);
@@ -191,8 +206,11 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
   protocols::write_json(s.summary, summary);
   guard.finish();
   if (reached < draws) {
-    throw std::runtime_error("perturb: draw " + std::to_string(draws) +
-                             " did not reach equilibrium within equilibrium.max_steps");
+    throw std::runtime_error(
+        "perturb: draw " + std::to_string(draws) + " did not reach equilibrium" +
+        (flowed ? " (the strain guard fired: epsilon_2 moved by more than "
+                  "perturb.failure_delta_epsilon_2; the sample flows)"
+                : " within equilibrium.max_steps"));
   }
 }
 

@@ -1,9 +1,11 @@
 #include "perturbation.hpp"
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
+#include "biaxial.hpp"
 #include "common/measurements.hpp"
 
 namespace granstab::protocols {
@@ -75,6 +77,12 @@ void run_perturbations(Engine& engine, const PerturbationOptions& options, std::
         fy[i] -= mean_y;
       }
     }
+    // Without this guard a sample that flows at the held q would run until the cell collapses.
+    const auto guarded = [&](const Engine& e, const Configuration& s, const EquilibriumReport& r) {
+      if (observer && !observer(e, s, r)) return false;
+      return std::abs(axial_strain(e) - record.epsilon_2_before) <=
+             options.failure_delta_epsilon_2;
+    };
     const bool resume_released = resumed && control.cursor.phase == released_phase;
     if (resume_released) {
       const auto& v = control.cursor.values;
@@ -89,7 +97,7 @@ void run_perturbations(Engine& engine, const PerturbationOptions& options, std::
       cursor.phase = loaded_phase;
       cursor.values = {record.epsilon_2_before, record.epsilon_v_before, 0, 0, 0, 0, 0};
       if (resumed) cursor.steps = control.cursor.steps;
-      record.loaded = run_to_equilibrium(engine, options.equilibration, state, observer, fx, fy,
+      record.loaded = run_to_equilibrium(engine, options.equilibration, state, guarded, fx, fy,
                                          LoopControl{control.hooks, cursor, resumed});
       const auto loaded = strains(state);
       record.delta_epsilon_2 = loaded[1] - record.epsilon_2_before;
@@ -108,7 +116,7 @@ void run_perturbations(Engine& engine, const PerturbationOptions& options, std::
                        record.loaded.aborted ? 1.0 : 0.0};
       cursor.report = record.loaded.report;
       cursor.steps = resume_released ? control.cursor.steps : 0;
-      record.released = run_to_equilibrium(engine, options.equilibration, state, observer, {}, {},
+      record.released = run_to_equilibrium(engine, options.equilibration, state, guarded, {}, {},
                                            LoopControl{control.hooks, cursor, resume_released});
       const auto released = strains(state);
       record.delta_epsilon_2_released = released[1] - record.epsilon_2_before;

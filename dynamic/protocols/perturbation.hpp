@@ -18,6 +18,9 @@ struct PerturbationOptions {
   // (strains accumulate). With release, the forces are removed after each loaded equilibrium and
   // the sample is brought to equilibrium again: the remaining strain is the irreversible part.
   bool release = true;
+  // A wait is abandoned (no equilibrium: the sample flows under the held stresses) when
+  // epsilon_2 moves by more than this from its value before the draw.
+  double failure_delta_epsilon_2 = 0.1;
   EquilibrationOptions equilibration;
 };
 

@@ -104,6 +104,26 @@ csv = "perturb.csv"
             std::string::npos);
 }
 
+// q = 3 is far beyond what the N = 100 sample holds at mu = 0.5 (its SIC fails near q = 1): the
+// held-stress wait must end on the strain guard with a message, not run until the cell collapses.
+TEST(PerturbCommand, StrainGuardStopsASampleThatFlows) {
+  Workdir dir("perturb-flow");
+  testing::spit(dir / "perturb.toml", "[input]\nsample = \"" + sample + "\"\n" + R"(
+[material]
+mu = 0.5
+[perturb]
+q = 3
+f0 = 1e-3
+failure_delta_epsilon_2 = 2e-3
+[output]
+csv = "perturb.csv"
+)");
+  const auto r = dir.run("perturb --quiet perturb.toml");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("the strain guard fired"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "perturb.json"));
+}
+
 struct BadCase {
   const char* command;
   std::string settings;
