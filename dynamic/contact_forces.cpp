@@ -1,5 +1,7 @@
 #include "contact_forces.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -36,8 +38,8 @@ void wall_velocity(Wall w, const std::array<double, 2>& rate, double& vx, double
 // of a synchronous state are a function of that state alone and an exported state resumes to
 // the bit. With dt = 0 (evaluating a given state) delta_t is kept as it is unless it lies
 // outside the Coulomb cone by more than round-off (e.g. after mu was lowered).
-inline ContactForce apply_law(const Material& m, double mu, double alpha, double h,
-                              double h_rate, double delta_t, double dt, double rate) {
+inline ContactForce apply_law(const Material& m, double mu, double alpha, double h, double h_rate,
+                              double delta_t, double dt, double rate) {
   ContactForce c = contact_force(m.k_n, m.k_t, mu, alpha, h, h_rate, delta_t, dt * rate);
   if (dt == 0.0 && std::abs(m.k_t * delta_t) <= (1.0 + sliding_tolerance) * mu * c.f_n) {
     c.delta_t = delta_t;
@@ -73,80 +75,150 @@ inline double minimum_image(double dx, double length, double half_length) {
   return dx;
 }
 
-// Pairs of the disks [first, end) of block b. Also lists the block's closed pairs (from the
-// start of its pair range) and the pairs that opened during the step (from the end), for the
-// viscous pass.
-void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first,
-                 int end, BlockSums& sums) {
-  const Material& mat = *in.material;
-  const double half_l1 = 0.5 * in.length[0], half_l2 = 0.5 * in.length[1];
-  const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
+// Adds a pair's force to its disks in the order of the sums (docs/dynamic.md,
+// "Determinism"): j's running sum in memory (its rows come later), i's in registers. Disks of
+// gathered blocks get theirs after the barrier from the pair's slot instead.
+struct RowSums {
+  double fx, fy, fvx, fvy, torque;
+};
+
+template <bool Gathering>
+inline void add_pair(DiskArrays& d, PairArrays& pairs, int p, int j, const PairArrays::Force& f,
+                     RowSums& row) {
+  if constexpr (Gathering) {
+    if (pairs.slotted[p]) pairs.force[p] = f;
+    if (pairs.block_gathered[j / block_size]) {
+      row.fx -= f.fx;
+      row.fy -= f.fy;
+      row.fvx -= f.fvx;
+      row.fvy -= f.fvy;
+      row.torque += f.torque_i;
+      return;
+    }
+  }
+  d.fx[j] += f.fx;
+  d.fy[j] += f.fy;
+  d.fvx[j] += f.fvx;
+  d.fvy[j] += f.fvy;
+  d.torque[j] += f.torque_j;
+  row.fx -= f.fx;
+  row.fy -= f.fy;
+  row.fvx -= f.fvx;
+  row.fvy -= f.fvy;
+  row.torque += f.torque_i;
+}
+
+// The pairs (rows) of the disks [first, end) of block b, added to both disks as they go. Also
+// lists the block's closed pairs (from the start of its pair range) and the pairs that opened
+// during the step (from the end), for the viscous pass. The inputs are copied to locals: the
+// stores into the force arrays could otherwise alias them.
+template <bool Gathering, bool Periodic>
+void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first, int end,
+                 BlockSums& sums) {
+  const Material mat = *in.material;
+  const double l1 = in.length[0], l2 = in.length[1], half_l1 = 0.5 * l1, half_l2 = 0.5 * l2;
+  const double dt = in.dt;
+  // Affine parts of the relative velocity (periodic cells only).
+  const double rate_t1 = Periodic ? in.rate_tangential[0] : 0.0;
+  const double rate_t2 = Periodic ? in.rate_tangential[1] : 0.0;
+  const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
+  const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
+  const double* const x = d.x.data();
+  const double* const y = d.y.data();
+  const double* const radius = d.radius.data();
+  const double* const vx = d.vx.data();
+  const double* const vy = d.vy.data();
+  const double* const omega = d.omega.data();
+  const double* const vvx = in.vx_viscous;
+  const double* const vvy = in.vy_viscous;
+  const std::int32_t* const row_start = pairs.row_start.data();
+  const std::int32_t* const pair_j = pairs.j.data();
+  const int range_begin = row_start[first], range_end = row_start[end];
   int next_closed = range_begin, next_opened = range_end;
-  for (int p = range_begin; p < range_end; ++p) {
-    const int i = pairs.i[p], j = pairs.j[p];
-    const double xi = d.x[i], yi = d.y[i], ri = d.radius[i];
-    double dx = d.x[j] - xi, dy = d.y[j] - yi;
-    if (in.periodic) {
-      dx = minimum_image(dx, in.length[0], half_l1);
-      dy = minimum_image(dy, in.length[1], half_l2);
-    }
-    const double reach = ri + d.radius[j];
-    const bool was_closed = pairs.f_n[p] > 0.0;
-    PairArrays::Force& out = pairs.force[p];
-    if (dx * dx + dy * dy >= reach * reach) {
-      if (!was_closed) continue;  // open before and after: every slot is still zero
-      // Opened during the step: the tangential state is dropped (SPEC §1.1), and the closing
-      // half kick keeps the share of the viscous force of the part of the step it was closed.
-      double share = 0.0;
-      if (in.dt > 0.0) {
-        const ContactFrame f = disk_disk_frame(dx, dy, ri, d.radius[j]);
-        const double affine_x = in.periodic ? in.rate_tangential[0] * dx : 0.0;
-        const double affine_y = in.periodic ? in.rate_tangential[1] * dy : 0.0;
-        const double h_rate = deflection_rate(f, d.vx[j] - d.vx[i] + affine_x,
-                                              d.vy[j] - d.vy[i] + affine_y);
-        share = viscous_share_opening(f.h, h_rate, in.dt);
+  for (int i = first; i < end; ++i) {
+    const double xi = x[i], yi = y[i], ri = radius[i];
+    const double vxi = vx[i], vyi = vy[i], omega_i = omega[i];
+    const double vvxi = vvx[i], vvyi = vvy[i];
+    // The column part of i's sums (pairs where i is j) is complete: those rows came first.
+    RowSums row{d.fx[i], d.fy[i], d.fvx[i], d.fvy[i], d.torque[i]};
+    const int row_end = row_start[i + 1];
+    for (int p = row_start[i]; p < row_end; ++p) {
+      const int j = pair_j[p];
+      double dx = x[j] - xi, dy = y[j] - yi;
+      if constexpr (Periodic) {
+        dx = minimum_image(dx, l1, half_l1);
+        dy = minimum_image(dy, l2, half_l2);
       }
-      out = {0.0, 0.0, share * out.fvx, share * out.fvy, 0.0, 0.0};
-      pairs.delta_t[p] = 0.0;
-      pairs.f_n[p] = 0.0;
-      pairs.active[--next_opened] = p;
-      continue;
+      const double rj = radius[j];
+      const double reach = ri + rj;
+      const bool was_closed = pairs.f_n[p] > 0.0;
+      if (dx * dx + dy * dy >= reach * reach) {
+        if (!was_closed) {  // open before and after: adds nothing
+          if constexpr (Gathering) {
+            if (pairs.slotted[p]) pairs.force[p] = PairArrays::Force{};
+          }
+          continue;
+        }
+        // Opened during the step: the tangential state is dropped (SPEC §1.1), and the closing
+        // half kick keeps the share of the viscous force of the part of the step it was closed.
+        double share = 0.0;
+        if (dt > 0.0) {
+          const ContactFrame f = disk_disk_frame(dx, dy, ri, rj);
+          const double affine_x = Periodic ? rate_t1 * dx : 0.0;
+          const double affine_y = Periodic ? rate_t2 * dy : 0.0;
+          const double h_rate = deflection_rate(f, vx[j] - vxi + affine_x, vy[j] - vyi + affine_y);
+          share = viscous_share_opening(f.h, h_rate, dt);
+        }
+        const PairArrays::Force out{
+            0.0, 0.0, share * pairs.viscous_x[p], share * pairs.viscous_y[p], 0.0, 0.0};
+        pairs.delta_t[p] = 0.0;
+        pairs.f_n[p] = 0.0;
+        pairs.active[--next_opened] = p;
+        add_pair<Gathering>(d, pairs, p, j, out, row);
+        continue;
+      }
+      pairs.active[next_closed++] = p;
+      const ContactFrame f = disk_disk_frame(dx, dy, ri, rj);
+      const double affine_tx = Periodic ? rate_t1 * dx : 0.0;
+      const double affine_ty = Periodic ? rate_t2 * dy : 0.0;
+      const double dvx = vx[j] - vxi + affine_tx, dvy = vy[j] - vyi + affine_ty;
+      const double rate = tangential_rate(f, dvx, dvy, omega_i, omega[j]);
+      const double affine_vx = Periodic ? rate_v1 * dx : 0.0;
+      const double affine_vy = Periodic ? rate_v2 * dy : 0.0;
+      const double h_rate =
+          deflection_rate(f, vvx[j] - vvxi + affine_vx, vvy[j] - vvyi + affine_vy);
+      const ContactForce c =
+          apply_law(mat, mat.mu, pairs.alpha[p], f.h, h_rate, pairs.delta_t[p], dt, rate);
+      pairs.delta_t[p] = c.delta_t;
+      pairs.f_n[p] = c.f_n;
+      pairs.nx[p] = f.nx;
+      pairs.ny[p] = f.ny;
+      pairs.lx[p] = dx;
+      pairs.ly[p] = dy;
+      const double fx = c.f_n * f.nx + c.f_t * f.tx;
+      const double fy = c.f_n * f.ny + c.f_t * f.ty;
+      // A contact that closed during the step gets, for the closing half kick only, the share
+      // of its viscous force of the part of the step it was closed.
+      const double share = was_closed || dt == 0.0
+                               ? 1.0
+                               : viscous_share_closing(f.h, deflection_rate(f, dvx, dvy), dt);
+      const double fvx = share * c.f_v * f.nx, fvy = share * c.f_v * f.ny;
+      // The viscous force of the state until the viscous pass refreshes it.
+      pairs.viscous_x[p] = fvx;
+      pairs.viscous_y[p] = fvy;
+      add_pair<Gathering>(d, pairs, p, j, {fx, fy, fvx, fvy, -f.a_i * c.f_t, -f.a_j * c.f_t}, row);
+      sums.sigma[0] += fx * dx;
+      sums.sigma[1] += fx * dy;
+      sums.sigma[2] += fy * dx;
+      sums.sigma[3] += fy * dy;
+      sums.sigma_viscous[0] += fvx * dx;
+      sums.sigma_viscous[1] += fvy * dy;
     }
-    pairs.active[next_closed++] = p;
-    const ContactFrame f = disk_disk_frame(dx, dy, ri, d.radius[j]);
-    const double affine_tx = in.periodic ? in.rate_tangential[0] * dx : 0.0;
-    const double affine_ty = in.periodic ? in.rate_tangential[1] * dy : 0.0;
-    const double dvx = d.vx[j] - d.vx[i] + affine_tx, dvy = d.vy[j] - d.vy[i] + affine_ty;
-    const double rate = tangential_rate(f, dvx, dvy, d.omega[i], d.omega[j]);
-    const double affine_vx = in.periodic ? in.rate_viscous[0] * dx : 0.0;
-    const double affine_vy = in.periodic ? in.rate_viscous[1] * dy : 0.0;
-    const double h_rate =
-        deflection_rate(f, in.vx_viscous[j] - in.vx_viscous[i] + affine_vx,
-                        in.vy_viscous[j] - in.vy_viscous[i] + affine_vy);
-    const ContactForce c =
-        apply_law(mat, mat.mu, pairs.alpha[p], f.h, h_rate, pairs.delta_t[p], in.dt, rate);
-    pairs.delta_t[p] = c.delta_t;
-    pairs.f_n[p] = c.f_n;
-    pairs.nx[p] = f.nx;
-    pairs.ny[p] = f.ny;
-    pairs.lx[p] = dx;
-    pairs.ly[p] = dy;
-    const double fx = c.f_n * f.nx + c.f_t * f.tx;
-    const double fy = c.f_n * f.ny + c.f_t * f.ty;
-    // A contact that closed during the step gets, for the closing half kick only, the share
-    // of its viscous force of the part of the step it was closed.
-    const double share =
-        was_closed || in.dt == 0.0
-            ? 1.0
-            : viscous_share_closing(f.h, deflection_rate(f, dvx, dvy), in.dt);
-    const double fvx = share * c.f_v * f.nx, fvy = share * c.f_v * f.ny;
-    out = {fx, fy, fvx, fvy, -f.a_i * c.f_t, -f.a_j * c.f_t};
-    sums.sigma[0] += fx * dx;
-    sums.sigma[1] += fx * dy;
-    sums.sigma[2] += fy * dx;
-    sums.sigma[3] += fy * dy;
-    sums.sigma_viscous[0] += fvx * dx;
-    sums.sigma_viscous[1] += fvy * dy;
+    d.fx[i] = row.fx;
+    d.fy[i] = row.fy;
+    d.fvx[i] = row.fvx;
+    d.fvy[i] = row.fvy;
+    d.torque[i] = row.torque;
   }
   pairs.block_closed[b] = next_closed - range_begin;
   pairs.block_opened[b] = range_end - next_opened;
@@ -154,31 +226,61 @@ void pair_forces(const DiskArrays& d, PairArrays& pairs, const ForceInputs& in, 
 
 // Viscous force only, at the velocities of in, over the closed pairs listed by pair_forces
 // (whose frame it stored); pairs that opened during the step drop their share.
-void pair_viscous(const DiskArrays& /*disks*/, PairArrays& pairs, const ForceInputs& in, int b,
-                  int first, int end, BlockSums& sums) {
+template <bool Gathering, bool Periodic>
+void pair_viscous(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first,
+                  int end, BlockSums& sums) {
+  const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
+  const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
+  const double* const vvx = in.vx_viscous;
+  const double* const vvy = in.vy_viscous;
+  double* const fvx_sum = d.fvx.data();
+  double* const fvy_sum = d.fvy.data();
   const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
   for (int k = range_end - pairs.block_opened[b]; k < range_end; ++k) {
-    PairArrays::Force& out = pairs.force[pairs.active[k]];
-    out.fvx = out.fvy = 0.0;
+    const int p = pairs.active[k];
+    pairs.viscous_x[p] = pairs.viscous_y[p] = 0.0;
+    if constexpr (Gathering) {
+      if (pairs.slotted[p]) pairs.force[p].fvx = pairs.force[p].fvy = 0.0;
+    }
   }
-  for (int k = range_begin; k < range_begin + pairs.block_closed[b]; ++k) {
+  const int closed_end = range_begin + pairs.block_closed[b];
+  for (int k = range_begin; k < closed_end; ++k) {
     const int p = pairs.active[k];
     const int i = pairs.i[p], j = pairs.j[p];
     const double dx = pairs.lx[p], dy = pairs.ly[p];
     ContactFrame f{};
     f.nx = pairs.nx[p];
     f.ny = pairs.ny[p];
-    const double affine_vx = in.periodic ? in.rate_viscous[0] * dx : 0.0;
-    const double affine_vy = in.periodic ? in.rate_viscous[1] * dy : 0.0;
+    const double affine_vx = Periodic ? rate_v1 * dx : 0.0;
+    const double affine_vy = Periodic ? rate_v2 * dy : 0.0;
     const double h_rate =
-        deflection_rate(f, in.vx_viscous[j] - in.vx_viscous[i] + affine_vx,
-                        in.vy_viscous[j] - in.vy_viscous[i] + affine_vy);
+        deflection_rate(f, vvx[j] - vvx[i] + affine_vx, vvy[j] - vvy[i] + affine_vy);
     const double f_v = pairs.alpha[p] * h_rate;  // as contact_force() computes it
-    PairArrays::Force& out = pairs.force[p];
-    out.fvx = f_v * f.nx;
-    out.fvy = f_v * f.ny;
-    sums.sigma_viscous[0] += out.fvx * dx;
-    sums.sigma_viscous[1] += out.fvy * dy;
+    const double fvx = f_v * f.nx, fvy = f_v * f.ny;
+    pairs.viscous_x[p] = fvx;
+    pairs.viscous_y[p] = fvy;
+    sums.sigma_viscous[0] += fvx * dx;
+    sums.sigma_viscous[1] += fvy * dy;
+    // Rows in ascending i: j's sum gets its column part, i's its row part, in order.
+    if constexpr (Gathering) {
+      if (pairs.slotted[p]) {
+        pairs.force[p].fvx = fvx;
+        pairs.force[p].fvy = fvy;
+      }
+      if (!pairs.block_gathered[j / block_size]) {
+        fvx_sum[j] += fvx;
+        fvy_sum[j] += fvy;
+      }
+      if (!pairs.block_gathered[i / block_size]) {
+        fvx_sum[i] -= fvx;
+        fvy_sum[i] -= fvy;
+      }
+    } else {
+      fvx_sum[j] += fvx;
+      fvy_sum[j] += fvy;
+      fvx_sum[i] -= fvx;
+      fvy_sum[i] -= fvy;
+    }
   }
 }
 
@@ -217,10 +319,9 @@ void wall_forces(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, 
                                          d.wall_delta_t[w][i], in.dt, rate);
         d.wall_delta_t[w][i] = c.delta_t;
         d.wall_f_v[w][i] = c.f_v;
-        const double share =
-            was_closed || in.dt == 0.0
-                ? 1.0
-                : viscous_share_closing(f.h, deflection_rate(f, dvx, dvy), in.dt);
+        const double share = was_closed || in.dt == 0.0
+                                 ? 1.0
+                                 : viscous_share_closing(f.h, deflection_rate(f, dvx, dvy), in.dt);
         d.wall_closed[w][i] = 1;
         f_v = share * c.f_v;
         const double ex = c.f_n * f.nx + c.f_t * f.tx;  // of the disk on the wall
@@ -246,83 +347,207 @@ void wall_forces(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, 
   }
 }
 
-// Per-disk sums in ascending partner order: pairs where the disk is j (partners < i), then
-// pairs where it is i (partners > i), then walls, then the external force.
-void accumulate(DiskArrays& d, const PairArrays& pairs, const ForceInputs& in, const Cell& cell,
-                int i, bool viscous_only, BlockSums& sums) {
-  double fx = 0.0, fy = 0.0, fvx = 0.0, fvy = 0.0, torque = 0.0;
-  for (int s = pairs.column_start[i]; s < pairs.column_start[i + 1]; ++s) {
-    const PairArrays::Force& f = pairs.force[pairs.column_pair[s]];
-    fx += f.fx;
-    fy += f.fy;
-    fvx += f.fvx;
-    fvy += f.fvy;
-    torque += f.torque_j;
+// The disk's forces once its pair sums are complete: walls, then the external force, then
+// (if asked) the second half kick.
+void finish_disk(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, bool viscous_only,
+                 RowSums s, BlockSums& sums) {
+  if (!in.periodic) {
+    wall_forces(d, in, cell, i, viscous_only, s.fx, s.fy, s.fvx, s.fvy, s.torque, sums);
+  }
+  d.fvx[i] = s.fvx;
+  d.fvy[i] = s.fvy;
+  if (viscous_only) return;
+  if (!d.ext_fx.empty()) {
+    s.fx += d.ext_fx[i];
+    s.fy += d.ext_fy[i];
+  }
+  d.fx[i] = s.fx;
+  d.fy[i] = s.fy;
+  d.torque[i] = s.torque;
+  if (in.kick) {
+    const double half = 0.5 * in.dt;
+    d.vx[i] += half * (s.fx + s.fvx) * d.inv_mass[i];
+    d.vy[i] += half * (s.fy + s.fvy) * d.inv_mass[i];
+    d.omega[i] += half * s.torque * d.inv_inertia[i];
+    // The viscous pass that follows adds the viscous forces of the final velocities into
+    // these (compute_viscous_forces).
+    d.fvx[i] = 0.0;
+    d.fvy[i] = 0.0;
+  }
+}
+
+// Pair sums of a disk of a gathered block from the slots, in ascending partner order: pairs
+// where the disk is j (partners < i), then pairs where it is i (partners > i).
+RowSums gather(const PairArrays& pairs, int i) {
+  RowSums s{0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int k = pairs.column_start[i]; k < pairs.column_start[i + 1]; ++k) {
+    const PairArrays::Force& f = pairs.force[pairs.column_pair[k]];
+    s.fx += f.fx;
+    s.fy += f.fy;
+    s.fvx += f.fvx;
+    s.fvy += f.fvy;
+    s.torque += f.torque_j;
   }
   for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
     const PairArrays::Force& f = pairs.force[p];
-    fx -= f.fx;
-    fy -= f.fy;
-    fvx -= f.fvx;
-    fvy -= f.fvy;
-    torque += f.torque_i;
+    s.fx -= f.fx;
+    s.fy -= f.fy;
+    s.fvx -= f.fvx;
+    s.fvy -= f.fvy;
+    s.torque += f.torque_i;
   }
-  if (!in.periodic) wall_forces(d, in, cell, i, viscous_only, fx, fy, fvx, fvy, torque, sums);
-  d.fvx[i] = fvx;
-  d.fvy[i] = fvy;
-  if (viscous_only) return;
-  if (!d.ext_fx.empty()) {
-    fx += d.ext_fx[i];
-    fy += d.ext_fy[i];
-  }
-  d.fx[i] = fx;
-  d.fy[i] = fy;
-  d.torque[i] = torque;
+  return s;
 }
 
-template <class PairPass>
+int part_begin(int blocks, int part, int team) {
+  return static_cast<int>(static_cast<long long>(blocks) * part / team);
+}
+
+// Which blocks a split into `team` parts must gather (see PairArrays): those with a disk whose
+// first partner (smallest i of its column) lies before the start of its part.
+void plan_team(PairArrays& pairs, int n, int team) {
+  const int nb = block_count(static_cast<std::size_t>(n));
+  pairs.block_gathered.assign(nb, 0);
+  pairs.any_gathered = false;
+  for (int part = 0; part < team; ++part) {
+    const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
+    const int part_first = b0 * block_size;
+    for (int k = part_first; k < std::min(n, b1 * block_size); ++k) {
+      const int s = pairs.column_start[k];
+      if (s < pairs.column_start[k + 1] && pairs.i[pairs.column_pair[s]] < part_first) {
+        pairs.block_gathered[k / block_size] = 1;
+        pairs.any_gathered = true;
+      }
+    }
+  }
+  pairs.slotted.resize(pairs.size());
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    pairs.slotted[p] = pairs.block_gathered[pairs.i[p] / block_size] |
+                       pairs.block_gathered[pairs.j[p] / block_size];
+  }
+  pairs.team = team;
+}
+
+// One pass over the pairs on the team: part k's thread clears its disks' sums, sweeps the rows
+// of its blocks and completes each block that is not gathered; after a barrier (only if some
+// block is gathered) the gathered blocks are completed from the slots. Per-block sums are added
+// in block order (pairs first, then disks), so every reduction is thread-independent.
+template <class Clear, class Rows, class Finish>
 BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
-              std::vector<BlockSums>& blocks, bool viscous_only, PairPass pair_pass) {
+              std::vector<BlockSums>& blocks, Clear clear, Rows rows, Finish finish) {
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
   blocks.resize(2 * static_cast<std::size_t>(nb));
   pairs.block_closed.resize(nb);
   pairs.block_opened.resize(nb);
-  Cell cell;
-  cell.boundary = in.periodic ? Boundary::periodic : Boundary::walls;
-  cell.length = in.length;
-#pragma omp parallel if (in.parallel)
+  const int team = pairs.team;
+#pragma omp parallel num_threads(team) if (in.parallel)
   {
-#pragma omp for schedule(static)
-    for (int b = 0; b < nb; ++b) {
-      BlockSums sums;
-      const int end = std::min(n, (b + 1) * block_size);
-      pair_pass(disks, pairs, in, b, b * block_size, end, sums);
-      blocks[b] = sums;
-    }
-#pragma omp for schedule(static)
-    for (int b = 0; b < nb; ++b) {
-      BlockSums sums;
-      const int end = std::min(n, (b + 1) * block_size);
-      for (int i = b * block_size; i < end; ++i) {
-        accumulate(disks, pairs, in, cell, i, viscous_only, sums);
+    // Parts are fixed by the plan; a smaller team than planned runs several parts per thread.
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    for (int part = t; part < team; part += threads) {
+      const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
+      clear(b0 * block_size, std::min(n, b1 * block_size));
+      for (int b = b0; b < b1; ++b) {
+        const int first = b * block_size, end = std::min(n, first + block_size);
+        BlockSums sums;
+        rows(b, first, end, sums);
+        blocks[b] = sums;
+        if (!pairs.block_gathered[b]) {
+          BlockSums disk_sums;
+          for (int i = first; i < end; ++i) finish(i, false, disk_sums);
+          blocks[nb + b] = disk_sums;
+        }
       }
-      blocks[nb + b] = sums;
+    }
+    if (pairs.any_gathered) {
+#pragma omp barrier
+      for (int part = t; part < team; part += threads) {
+        const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
+        for (int b = b0; b < b1; ++b) {
+          if (!pairs.block_gathered[b]) continue;
+          const int first = b * block_size, end = std::min(n, first + block_size);
+          BlockSums disk_sums;
+          for (int i = first; i < end; ++i) finish(i, true, disk_sums);
+          blocks[nb + b] = disk_sums;
+        }
+      }
     }
   }
   return add_blocks(blocks, 2 * nb);
+}
+
+// Calls f.operator()<Gathering, Periodic>() with the two flags as compile-time constants (the
+// pair loops are specialised on them).
+template <class F>
+void with_flags(bool gathering, bool periodic, F f) {
+  const auto on_periodic = [&]<bool Gathering>() {
+    if (periodic) {
+      f.template operator()<Gathering, true>();
+    } else {
+      f.template operator()<Gathering, false>();
+    }
+  };
+  if (gathering) {
+    on_periodic.template operator()<true>();
+  } else {
+    on_periodic.template operator()<false>();
+  }
+}
+
+Cell cell_of(const ForceInputs& in) {
+  Cell cell;
+  cell.boundary = in.periodic ? Boundary::periodic : Boundary::walls;
+  cell.length = in.length;
+  return cell;
 }
 
 }  // namespace
 
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks) {
-  return run(disks, pairs, in, blocks, false, pair_forces);
+  const int team = in.parallel ? omp_get_max_threads() : 1;
+  if (pairs.team != team) plan_team(pairs, static_cast<int>(disks.size()), team);
+  const Cell cell = cell_of(in);
+  // With the kick, the first half kick (kick_drift) has cleared the sums after using them.
+  const auto clear = [&](int first, int end) {
+    if (in.kick) return;
+    for (auto* v : {&disks.fx, &disks.fy, &disks.fvx, &disks.fvy, &disks.torque}) {
+      std::fill(v->begin() + first, v->begin() + end, 0.0);
+    }
+  };
+  const auto rows = [&](int b, int first, int end, BlockSums& sums) {
+    with_flags(pairs.any_gathered, in.periodic, [&]<bool Gathering, bool Periodic>() {
+      pair_forces<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
+    });
+  };
+  const auto finish = [&](int i, bool gathered, BlockSums& sums) {
+    const RowSums s =
+        gathered ? gather(pairs, i)
+                 : RowSums{disks.fx[i], disks.fy[i], disks.fvx[i], disks.fvy[i], disks.torque[i]};
+    finish_disk(disks, in, cell, i, false, s, sums);
+  };
+  return run(disks, pairs, in, blocks, clear, rows, finish);
 }
 
 BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks) {
-  return run(disks, pairs, in, blocks, true, pair_viscous);
+  // The split of the force pass that listed the closed pairs (its slots are current).
+  if (pairs.team == 0) plan_team(pairs, static_cast<int>(disks.size()), 1);
+  const Cell cell = cell_of(in);
+  const auto clear = [](int, int) {};  // the force pass with the kick left zeros
+  const auto rows = [&](int b, int first, int end, BlockSums& sums) {
+    with_flags(pairs.any_gathered, in.periodic, [&]<bool Gathering, bool Periodic>() {
+      pair_viscous<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
+    });
+  };
+  const auto finish = [&](int i, bool gathered, BlockSums& sums) {
+    RowSums s{0.0, 0.0, disks.fvx[i], disks.fvy[i], 0.0};
+    if (gathered) s = gather(pairs, i);
+    if (in.periodic && !gathered) return;  // the sums are complete already
+    finish_disk(disks, in, cell, i, true, s, sums);
+  };
+  return run(disks, pairs, in, blocks, clear, rows, finish);
 }
 
 }  // namespace granstab::dynamic

@@ -1,8 +1,9 @@
 #pragma once
 // Contact forces of one step from the common contact law (common/contact_law.hpp, SPEC §1.1).
-// Each pair's force is computed into per-pair slots (parallel over fixed blocks of disks), then
-// every disk sums its pairs in ascending partner order: the result is independent of the thread
-// count and of when the Verlet list was last rebuilt (open pairs contribute exact zeros).
+// Parallel over fixed blocks of disks; every disk sums its pairs in ascending partner order
+// (added as the rows are swept, or gathered from per-pair slots after a barrier for the few
+// disks that have partners in another thread's part): the result is independent of the thread
+// count and of when the Verlet list was last rebuilt (open pairs contribute nothing).
 #include <vector>
 
 #include "common/material.hpp"
@@ -25,15 +26,21 @@ struct ForceInputs {
   // Run the per-block loops on the OpenMP team (false: on the calling thread; small samples,
   // where the synchronisation costs more than the work). The result is the same bits either way.
   bool parallel = true;
+  // Also the second half kick of the disks, v(t + dt) = v(t + dt/2) + dt/2 a(t + dt) (same for
+  // omega), as soon as a disk's forces are complete (the cell's half kick is the caller's).
+  bool kick = false;
 };
 
 // Elastic, frictional and viscous forces; updates delta_t of pairs and walls. Sums (stress,
-// wall forces) of the whole sample are returned; blocks is scratch space.
+// wall forces) of the whole sample are returned; blocks is scratch space. With in.kick the
+// per-disk sums fx, fy, fvx, fvy, torque must be zero on entry (kick_drift leaves them so),
+// and fvx, fvy are zero again on return (they are what compute_viscous_forces adds into).
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks);
 
 // The viscous forces alone, for the velocities in.vx_viscous / in.rate_viscous, with the
-// contact geometry of the last compute_contact_forces (fills disks.fvx, fvy).
+// contact geometry of the last compute_contact_forces, which must have been run with in.kick
+// (fills disks.fvx, fvy; it adds into the zeros that pass left).
 BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks);
 

@@ -149,7 +149,8 @@ void Engine::control_cell() {
 }
 
 void Engine::refresh_viscous_forces() {
-  if (material_.zeta == 0.0) return;  // the viscous slots are exact zeros already
+  // zeta = 0: alpha = 0, the viscous forces are exact zeros (and fvx, fvy hold zeros already).
+  if (material_.zeta == 0.0) return;
   const BlockSums v =
       dynamic::compute_viscous_forces(disks_, pairs_, force_inputs(0.0, false), blocks_);
   sums_.sigma_viscous = v.sigma_viscous;
@@ -164,9 +165,11 @@ void Engine::refresh_viscous_forces() {
 void Engine::step() {
   dynamic::kick_drift(disks_, cell_, stage_, dt_, neighbours_, parallel());
   neighbours_.update(disks_, cell_, pairs_, material_);
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(dt_, true), blocks_);
+  ForceInputs in = force_inputs(dt_, true);
+  in.kick = true;  // the disks' second half kick, as each disk's forces are complete
+  sums_ = dynamic::compute_contact_forces(disks_, pairs_, in, blocks_);
   control_cell();
-  dynamic::kick(disks_, cell_, stage_, dt_, parallel());
+  dynamic::kick_cell(cell_, stage_, dt_);
   refresh_viscous_forces();
   ++step_;
   time_ += dt_;

@@ -31,26 +31,47 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   const double* ref_x = neighbours.reference_x().data();
   const double* ref_y = neighbours.reference_y().data();
   const int n = static_cast<int>(d.size());
+  const double lambda_x = lambda[0], lambda_y = lambda[1];
+  double* const x = d.x.data();
+  double* const y = d.y.data();
+  double* const vx = d.vx.data();
+  double* const vy = d.vy.data();
+  double* const vpx = d.vpx.data();
+  double* const vpy = d.vpy.data();
+  double* const omega = d.omega.data();
+  double* const theta = d.theta.data();
+  double* const fx = d.fx.data();
+  double* const fy = d.fy.data();
+  double* const fvx = d.fvx.data();
+  double* const fvy = d.fvy.data();
+  double* const torque = d.torque.data();
+  const double* const inv_mass = d.inv_mass.data();
+  const double* const inv_inertia = d.inv_inertia.data();
   double max_d2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_d2) if (parallel)
+  // Element-wise (SIMD lanes compute exactly the scalar operations; the max is exact).
+#pragma omp parallel for simd schedule(static) reduction(max : max_d2) if (parallel)
   for (int i = 0; i < n; ++i) {
-    const double ax = (d.fx[i] + d.fvx[i]) * d.inv_mass[i];
-    const double ay = (d.fy[i] + d.fvy[i]) * d.inv_mass[i];
-    d.vx[i] += half * ax;
-    d.vy[i] += half * ay;
-    d.vpx[i] = d.vx[i] + half * ax;
-    d.vpy[i] = d.vy[i] + half * ay;
-    d.omega[i] += half * d.torque[i] * d.inv_inertia[i];
-    double x = d.x[i] * lambda[0] + dt * d.vx[i];
-    double y = d.y[i] * lambda[1] + dt * d.vy[i];
+    const double ax = (fx[i] + fvx[i]) * inv_mass[i];
+    const double ay = (fy[i] + fvy[i]) * inv_mass[i];
+    const double vx_half = vx[i] + half * ax, vy_half = vy[i] + half * ay;
+    vx[i] = vx_half;
+    vy[i] = vy_half;
+    vpx[i] = vx_half + half * ax;
+    vpy[i] = vy_half + half * ay;
+    const double omega_half = omega[i] + half * torque[i] * inv_inertia[i];
+    omega[i] = omega_half;
+    // Used: cleared for the force pass, which adds every disk's pair forces into them.
+    fx[i] = fy[i] = fvx[i] = fvy[i] = torque[i] = 0.0;
+    double xi = x[i] * lambda_x + dt * vx_half;
+    double yi = y[i] * lambda_y + dt * vy_half;
     if (periodic) {
-      x = wrap(x, l1);
-      y = wrap(y, l2);
+      xi = wrap(xi, l1);
+      yi = wrap(yi, l2);
     }
-    d.x[i] = x;
-    d.y[i] = y;
-    d.theta[i] += dt * d.omega[i];
-    double ex = x * sx - ref_x[i], ey = y * sy - ref_y[i];
+    x[i] = xi;
+    y[i] = yi;
+    theta[i] += dt * omega_half;
+    double ex = xi * sx - ref_x[i], ey = yi * sy - ref_y[i];
     if (periodic) {  // |ex| < 1: nearest image by comparison (no rounding call)
       ex = ex > 0.5 ? ex - 1.0 : (ex < -0.5 ? ex + 1.0 : ex);
       ey = ey > 0.5 ? ey - 1.0 : (ey < -0.5 ? ey + 1.0 : ey);
@@ -62,19 +83,12 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   neighbours.set_max_displacement_squared(max_d2);
 }
 
-void kick(DiskArrays& d, CellState& cell, const Stage& stage, double dt, bool parallel) {
+void kick_cell(CellState& cell, const Stage& stage, double dt) {
   const double half = 0.5 * dt;
   for (int a = 0; a < 2; ++a) {
     if (stage.control[a] == LengthControl::stress) {
       cell.length_rate[a] += half * cell.length_acceleration[a];
     }
-  }
-  const int n = static_cast<int>(d.size());
-#pragma omp parallel for schedule(static) if (parallel)
-  for (int i = 0; i < n; ++i) {
-    d.vx[i] += half * (d.fx[i] + d.fvx[i]) * d.inv_mass[i];
-    d.vy[i] += half * (d.fy[i] + d.fvy[i]) * d.inv_mass[i];
-    d.omega[i] += half * d.torque[i] * d.inv_inertia[i];
   }
 }
 

@@ -41,7 +41,8 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
   old_row_start_.swap(pairs.row_start);
   old_delta_t_.swap(pairs.delta_t);
   old_f_n_.swap(pairs.f_n);
-  old_force_.swap(pairs.force);
+  old_viscous_x_.swap(pairs.viscous_x);
+  old_viscous_y_.swap(pairs.viscous_y);
   const bool had_list = built_ && old_row_start_.size() == n + 1;
 
   const std::size_t m = found_.size();
@@ -53,7 +54,10 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
 
   pairs.delta_t.assign(m, 0.0);
   pairs.f_n.assign(m, 0.0);
+  pairs.viscous_x.assign(m, 0.0);
+  pairs.viscous_y.assign(m, 0.0);
   pairs.force.assign(m, PairArrays::Force{});
+  pairs.team = 0;  // the gathered blocks depend on the list
   if (had_list) {
     for (std::size_t i = 0; i < n; ++i) {
       int q = old_row_start_[i];
@@ -65,8 +69,8 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
           // (and how hard) it was closed, which the next force pass needs.
           pairs.delta_t[p] = old_delta_t_[q];
           pairs.f_n[p] = old_f_n_[q];
-          pairs.force[p].fvx = old_force_[q].fvx;
-          pairs.force[p].fvy = old_force_[q].fvy;
+          pairs.viscous_x[p] = old_viscous_x_[q];
+          pairs.viscous_y[p] = old_viscous_y_[q];
         }
       }
     }

@@ -43,8 +43,7 @@ class NeighbourList {
   PairSearch search_;
   PairList found_;
   std::vector<std::int32_t> old_i_, old_j_, old_row_start_;
-  std::vector<double> old_delta_t_, old_f_n_;
-  std::vector<PairArrays::Force> old_force_;
+  std::vector<double> old_delta_t_, old_f_n_, old_viscous_x_, old_viscous_y_;
 };
 
 }  // namespace granstab::dynamic

@@ -30,15 +30,20 @@ struct DiskArrays {
 };
 
 // Pairs of the Verlet list, i < j, sorted by (i, j): CSR rows by i, plus the transposed
-// incidence (for each disk, the pairs where it is j, ascending i) so that every disk sums its
-// pair forces in ascending partner order whatever the list holds (see docs/dynamic.md).
+// incidence (for each disk, the pairs where it is j, ascending i). Every disk sums its pair
+// forces in ascending partner order whatever the list holds (see docs/dynamic.md,
+// "Determinism"): the force pass adds each pair's force to both disks as it goes (rows in
+// ascending i do exactly that order), except for the disks of "gathered" blocks (below).
 struct PairArrays {
   std::vector<std::int32_t> i, j;
   std::vector<std::int32_t> row_start;                  // N + 1
   std::vector<std::int32_t> column_start, column_pair;  // N + 1, size()
   std::vector<double> alpha, delta_t;
-  // Outputs of the force pass (zero for open pairs), one struct per pair: the per-disk sums
-  // reach them through the transposed incidence, one cache line per pair.
+  // Viscous force of i on j of the synchronous state (zero for open pairs): a pair that opens
+  // during the next step keeps a share of it for the closing half kick.
+  std::vector<double> viscous_x, viscous_y;
+  // Per-pair outputs of a pass, written only for pairs with a gathered disk (`slotted`), whose
+  // sums are taken after the team's barrier through the incidence, in the same order.
   struct Force {
     double fx, fy;    // elastic + frictional force of i on j
     double fvx, fvy;  // viscous force of i on j
@@ -50,6 +55,13 @@ struct PairArrays {
   // Per reduction block: its closed pairs from the start of its pair range in `active`, the
   // pairs that opened during the step from the end (written by the force pass).
   std::vector<std::int32_t> active, block_closed, block_opened;
+  // Split of the blocks between `team` parts (part k: blocks [nb k / team, nb (k + 1) / team),
+  // each run by one thread). A block is gathered when one of its disks has a partner in an
+  // earlier part: such a disk would receive forces from two threads. team = 0: not planned
+  // for this list yet (see contact_forces.cpp).
+  int team = 0;
+  bool any_gathered = false;
+  std::vector<std::uint8_t> block_gathered, slotted;  // per block, per pair
   std::size_t size() const { return i.size(); }
 };
 

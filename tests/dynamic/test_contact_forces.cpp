@@ -1,9 +1,13 @@
 // The engine's use of the common contact law (SPEC §1.1): incremental tangential force with
 // Coulomb slip, lever arms, objectivity under rigid rotation, periodic images.
 #include <gtest/gtest.h>
+#include <omp.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
+#include "common/contact_law.hpp"
 #include "helpers.hpp"
 
 namespace granstab {
@@ -184,6 +188,69 @@ TEST(ExternalForces, ConstantForceGivesUniformAcceleration) {
   EXPECT_EQ(e.force_x(0), 0.0);
   EXPECT_THROW(e.set_external_forces(std::vector<double>{1.0}, fy), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace granstab
+
+namespace granstab {
+namespace {
+
+// The per-disk sums of the engine's pair passes (forces added as the rows are swept, or
+// gathered from per-pair slots for disks with partners in another thread's part) against a
+// direct sum over the exported contacts with the contact law: F_N = K_N h, F_T = -K_T delta_t,
+// F_v = alpha dh/dt with the final velocities. Randomly numbered disks, so that with two
+// threads many blocks are gathered.
+void expect_brute_force_sums(int threads) {
+  const Material material = Material::from_kappa(1e3, 1.0, 0.3, 0.7);
+  Configuration c = testing::random_gas(300, 0.2, material, 5);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> velocity(-0.5, 0.5);
+  for (std::size_t i = 0; i < c.disks.size(); ++i) {
+    c.disks.radius[i] *= 1.9;  // solid fraction ~0.72: many overlaps
+    c.disks.mass[i] = c.disks.radius[i] * c.disks.radius[i];
+    c.disks.inertia[i] = 0.5 * c.disks.mass[i] * c.disks.radius[i] * c.disks.radius[i];
+    c.disks.vx[i] = velocity(rng);
+    c.disks.vy[i] = velocity(rng);
+    c.disks.omega[i] = velocity(rng);
+  }
+  omp_set_num_threads(threads);
+  EngineOptions options;
+  options.parallel_min_disks = 0;  // the team runs even these 300 disks
+  Engine e(c, options);
+  e.run(40);
+  const Configuration s = e.configuration();
+  const std::size_t n = s.disks.size();
+  std::vector<double> fx(n, 0.0), fy(n, 0.0), torque(n, 0.0);
+  double scale = 0.0;
+  ASSERT_GT(s.contacts.size(), n / 2);
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const int i = s.contacts.i[k], j = s.contacts.j[k];
+    double lx = s.disks.x[j] - s.disks.x[i], ly = s.disks.y[j] - s.disks.y[i];
+    lx += s.cell.length[0] * minimum_image_shift(lx, s.cell.length[0]);
+    ly += s.cell.length[1] * minimum_image_shift(ly, s.cell.length[1]);
+    const ContactFrame f = disk_disk_frame(lx, ly, s.disks.radius[i], s.disks.radius[j]);
+    const double h_rate =
+        deflection_rate(f, s.disks.vx[j] - s.disks.vx[i], s.disks.vy[j] - s.disks.vy[i]);
+    const double f_n = material.k_n * f.h, f_t = -material.k_t * s.contacts.delta_t[k];
+    const double f_v = material.damping_coefficient(s.disks.mass[i], s.disks.mass[j]) * h_rate;
+    const double ex = (f_n + f_v) * f.nx + f_t * f.tx, ey = (f_n + f_v) * f.ny + f_t * f.ty;
+    fx[j] += ex;
+    fy[j] += ey;
+    fx[i] -= ex;
+    fy[i] -= ey;
+    torque[i] -= f.a_i * f_t;
+    torque[j] -= f.a_j * f_t;
+    scale = std::max(scale, f_n);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_NEAR(e.force_x(i), fx[i], 1e-10 * scale) << "disk " << i;
+    ASSERT_NEAR(e.force_y(i), fy[i], 1e-10 * scale) << "disk " << i;
+    ASSERT_NEAR(e.torque(i), torque[i], 1e-10 * scale) << "disk " << i;
+  }
+}
+
+TEST(PairSums, MatchDirectSumOneThread) { expect_brute_force_sums(1); }
+TEST(PairSums, MatchDirectSumTwoThreads) { expect_brute_force_sums(2); }
 
 }  // namespace
 }  // namespace granstab
