@@ -48,8 +48,7 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   const double* const inv_mass = d.inv_mass.data();
   const double* const inv_inertia = d.inv_inertia.data();
   double max_d2 = 0.0;
-  // Element-wise (SIMD lanes compute exactly the scalar operations; the max is exact).
-#pragma omp parallel for simd schedule(static) reduction(max : max_d2) if (parallel)
+#pragma omp parallel for schedule(static) reduction(max : max_d2) if (parallel)
   for (int i = 0; i < n; ++i) {
     const double ax = (fx[i] + fvx[i]) * inv_mass[i];
     const double ay = (fy[i] + fvy[i]) * inv_mass[i];
