@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/io/csv_writer.hpp"
 #include "common/measurements.hpp"
 #include "dynamic/protocols/biaxial.hpp"
 
@@ -151,24 +152,22 @@ Configuration biaxial_start(const Configuration& sample, double mu) {
   return start;
 }
 
-DynamicRun run_dynamic(const Configuration& start, const CrosscheckOptions& options,
-                       double q_end) {
-  Engine engine(start, options.engine);
-  const double pressure = start.stage.sigma_ext[0];
-  protocols::begin_biaxial_stage(engine, start.material, pressure);
+void run_dynamic(const Configuration& from, const CrosscheckOptions& options, double q_end,
+                 DynamicRun& run, const protocols::LoopControl& control) {
+  Engine engine(from, options.engine);
+  const double pressure = from.stage.sigma_ext[0];
+  // A resumed engine is in the biaxial stage already, with sigma_2 of its increment.
+  if (!control.resume) protocols::begin_biaxial_stage(engine, from.material, pressure);
   protocols::StressStepOptions sic;
   const int substeps = std::max(1, options.dynamic_substeps);
   sic.delta_q = options.dq / substeps;
   sic.q_max = q_end;
   sic.epsilon_2_max = options.epsilon_2_max;
   sic.equilibration = options.equilibration;
-  DynamicRun run;
   Configuration state;
-  std::uint64_t steps_since_record = 0;
-  const auto record = [&run, &steps_since_record, substeps, sic](
-                          const Engine&, const Configuration& s,
-                          const protocols::StressStepRecord& r) {
-    steps_since_record += r.steps;
+  const auto record = [&run, substeps, sic](const Engine&, const Configuration& s,
+                                            const protocols::StressStepRecord& r) {
+    run.steps_since_record += r.steps;
     const long k = std::lround(r.q_target / sic.delta_q);
     if (r.equilibrium.reached && k % substeps != 0) return;  // between two recorded states
     const Measurements m = measure(s);
@@ -179,8 +178,8 @@ DynamicRun run_dynamic(const Configuration& start, const CrosscheckOptions& opti
     p.eps2 = m.epsilon_2;
     p.epsv = m.epsilon_v;
     p.n_sliding = m.n_sliding;
-    p.steps = steps_since_record;
-    steps_since_record = 0;
+    p.steps = run.steps_since_record;
+    run.steps_since_record = 0;
     p.reached = r.equilibrium.reached;
     p.max_net_force = r.equilibrium.report.max_net_force;
     p.max_net_torque = r.equilibrium.report.max_net_torque;
@@ -189,13 +188,53 @@ DynamicRun run_dynamic(const Configuration& start, const CrosscheckOptions& opti
     run.curve.push_back(p);
   };
   const protocols::StressStepResult r =
-      protocols::run_stress_steps(engine, sic, pressure, state, record);
+      protocols::run_stress_steps(engine, sic, pressure, state, record, {}, control);
   run.stop_reason = r.stop_reason;
   run.steps = r.steps;
+}
+
+std::string dynamic_run_state(const DynamicRun& run) {
+  std::string s = std::to_string(run.steps_since_record) + "\n";
+  for (const DynamicPoint& p : run.curve) {
+    for (const double v : {p.q_target, p.q, p.eps1, p.eps2, p.epsv, p.max_net_force,
+                           p.max_net_torque, p.stress_error_1, p.stress_error_2}) {
+      s += csv_number(v) + ' ';
+    }
+    s += std::to_string(p.n_sliding) + ' ' + std::to_string(p.steps) + ' ' +
+         (p.reached ? "1" : "0") + '\n';
+  }
+  return s;
+}
+
+DynamicRun parse_dynamic_run_state(const std::string& text) {
+  DynamicRun run;
+  const char* at = text.data();
+  const char* const end = text.data() + text.size();
+  const auto fail = [] { throw std::runtime_error("compare: damaged dynamic curve state"); };
+  const auto field = [&](auto& value, char separator) {
+    const auto r = std::from_chars(at, end, value);
+    if (r.ec != std::errc() || r.ptr == end || *r.ptr != separator) fail();
+    at = r.ptr + 1;
+  };
+  field(run.steps_since_record, '\n');
+  while (at != end) {
+    DynamicPoint p;
+    for (double* v : {&p.q_target, &p.q, &p.eps1, &p.eps2, &p.epsv, &p.max_net_force,
+                      &p.max_net_torque, &p.stress_error_1, &p.stress_error_2}) {
+      field(*v, ' ');
+    }
+    int reached = 0;
+    field(p.n_sliding, ' ');
+    field(p.steps, ' ');
+    field(reached, '\n');
+    if (reached != 0 && reached != 1) fail();
+    p.reached = reached == 1;
+    run.curve.push_back(p);
+  }
   return run;
 }
 
-CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOptions& options) {
+CrosscheckResult run_static_half(const Configuration& sample, const CrosscheckOptions& options) {
   if (!(options.dq > 0.0) || !std::isfinite(options.dq))
     throw std::invalid_argument("compare: --dq must be a finite number > 0");
   if (!(options.q_max > 0.0))
@@ -223,19 +262,27 @@ CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOpt
     out.rigid = statics::rigid_limit(out.start);
     out.rigid_seconds = seconds_since(t0);
   }
+  return out;
+}
 
+double dynamic_q_end(const CrosscheckResult& static_half, const CrosscheckOptions& options) {
   // The dynamic run covers the static range, and a few increments beyond q1 when it was found.
-  double q_end = options.q_max;
-  if (!std::isfinite(q_end)) {
-    const double k1 = std::floor(out.statics.q1 / options.dq + 1e-9);
-    q_end = (k1 + options.steps_after_q1) * options.dq;
-  }
-  t0 = std::chrono::steady_clock::now();
-  out.dynamic = run_dynamic(out.start, options, q_end);
-  out.dynamic_seconds = seconds_since(t0);
+  if (std::isfinite(options.q_max)) return options.q_max;
+  const double k1 = std::floor(static_half.statics.q1 / options.dq + 1e-9);
+  return (k1 + options.steps_after_q1) * options.dq;
+}
 
-  out.comparison = compare_curves(out.statics.curve, out.statics.q1, out.dynamic.curve,
-                                  out.pressure, options.equilibration.tolerances);
+void compare_halves(CrosscheckResult& r, const CrosscheckOptions& options) {
+  r.comparison = compare_curves(r.statics.curve, r.statics.q1, r.dynamic.curve, r.pressure,
+                                options.equilibration.tolerances);
+}
+
+CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOptions& options) {
+  CrosscheckResult out = run_static_half(sample, options);
+  const auto t0 = std::chrono::steady_clock::now();
+  run_dynamic(out.start, options, dynamic_q_end(out, options), out.dynamic);
+  out.dynamic_seconds = seconds_since(t0);
+  compare_halves(out, options);
   return out;
 }
 

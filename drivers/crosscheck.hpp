@@ -13,6 +13,7 @@
 #include "common/configuration.hpp"
 #include "dynamic/engine.hpp"
 #include "dynamic/protocols/equilibration.hpp"
+#include "dynamic/protocols/loop_hooks.hpp"
 #include "static/q1.hpp"
 #include "static/rigid_limit.hpp"
 
@@ -59,6 +60,9 @@ struct DynamicRun {
   std::vector<DynamicPoint> curve;
   std::string stop_reason;  // "q_max", "no equilibrium", "epsilon_2_max"
   std::uint64_t steps = 0;
+  // MD steps since the last recorded state (the substeps in between): with the curve, the part
+  // of a checkpoint that is the run's own (dynamic_run_state below).
+  std::uint64_t steps_since_record = 0;
 };
 
 // The dynamic point matched to a static state at the same prescribed q.
@@ -116,8 +120,18 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
 // stress-controlled stage or mu is not a finite number >= 0.
 Configuration biaxial_start(const Configuration& sample, double mu);
 
-// Dynamic SIC from the start state: q = k dq up to q_end (inclusive, to round-off).
-DynamicRun run_dynamic(const Configuration& start, const CrosscheckOptions& options, double q_end);
+// Dynamic SIC from the start state: q = k dq up to q_end (inclusive, to round-off), appended to
+// `run` (empty at a start). Safe points (control.hooks) are those of run_stress_steps; at each,
+// `run` holds the curve so far, so the engine's state, the cursor and `run` are all a resume
+// needs: with control.resume, `from` is that engine state and `run` the stored curve, and the run
+// continues to the bit (docs/reliability.md).
+void run_dynamic(const Configuration& from, const CrosscheckOptions& options, double q_end,
+                 DynamicRun& run, const protocols::LoopControl& control = {});
+
+// The dynamic run's own state in a checkpoint (curve and steps since the last record; numbers as
+// shortest round-trip decimals), and back. Throws std::runtime_error on a damaged text.
+std::string dynamic_run_state(const DynamicRun& run);
+DynamicRun parse_dynamic_run_state(const std::string& text);
 
 struct CrosscheckResult {
   Configuration start;
@@ -131,7 +145,19 @@ struct CrosscheckResult {
 };
 
 // Runs both methods and compares them. Throws std::invalid_argument on bad options or sample.
+// The three parts below in order; `granstab compare` calls them itself to checkpoint the
+// dynamic half.
 CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOptions& options);
+
+// The static half: the start state, the static curve to q1 and the rigid limit (result.dynamic
+// and result.comparison stay empty). Deterministic: the same sample and options give the same
+// bits.
+CrosscheckResult run_static_half(const Configuration& sample, const CrosscheckOptions& options);
+// The highest q of the dynamic half: options.q_max, or steps_after_q1 increments beyond the
+// static q1 when q_max is infinite.
+double dynamic_q_end(const CrosscheckResult& static_half, const CrosscheckOptions& options);
+// result.comparison from both curves.
+void compare_halves(CrosscheckResult& result, const CrosscheckOptions& options);
 
 // --- outputs (strings; the driver writes each through write_file_atomically) -----------------
 // The static curve in the format of `granstab q1` (static_curve.csv).
