@@ -1,13 +1,16 @@
 #include "static/load_step.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <unordered_set>
+#include <unordered_map>
 
 #include "static/backbone.hpp"
 #include "static/closing_contacts.hpp"
+#include "static/complementarity.hpp"
 #include "static/linear_solvers.hpp"
 #include "static/tangent.hpp"
 
@@ -19,28 +22,34 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Solves K dq = b on the kept dofs (pinned dofs stay 0); false if K is singular there.
-// Solves K x = b on the kept dofs with a factor of the reduced K. With check_pinned, the rows of
-// pinned gear rotations must hold too (see kept_dofs): the predictor's test of a status set. The
-// corrector's backtracking on |R| judges its steps itself.
+// Solves K x = b on the kept dofs with a factor of the reduced K (pinned dofs stay 0). With
+// check_pinned, the rows of pinned gear rotations must hold too (see kept_dofs): the predictor's
+// test of a status set. The misfit of the pinned rows is compared with the largest size of the
+// terms of a row, max_i (|K| |x| + |b|)_i, so that the round-off of K x (O(1e-16 cond(K)) of
+// that) never decides it; a genuine misfit (sliding forces doing work in a gear mode) is a
+// finite fraction of it. (Before: 1e-8 |b|, which ignores the size of K x.)
+// The corrector's backtracking on |R| judges its steps itself.
 bool solve_factored(const SparseMatrix& k, const std::vector<char>& kept, const LuFactor& lu,
-                    const Eigen::VectorXd& b, Eigen::VectorXd& x, bool check_pinned) {
+                    const Eigen::VectorXd& b, Eigen::VectorXd& x, bool check_pinned,
+                    double tolerance) {
   const Reduction r = make_reduction(kept);
   x = expand(lu.solve(reduce(b, r)), r, static_cast<int>(k.rows()));
   if (!check_pinned || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
     return true;
   const Eigen::VectorXd misfit = k * x - b;
+  const Eigen::VectorXd size = k.cwiseAbs() * x.cwiseAbs() + b.cwiseAbs();
   double worst = 0.0;
   for (std::size_t i = 0; i < kept.size(); ++i)
     if (!kept[i]) worst = std::max(worst, std::abs(misfit[i]));
-  return worst <= 1e-8 * std::max(b.cwiseAbs().maxCoeff(), 1e-300);
+  return worst <= tolerance * std::max(size.maxCoeff(), 1e-300);
 }
 
 bool solve_kept(const SparseMatrix& k, const std::vector<char>& kept, const Eigen::VectorXd& b,
-                LuFactor& lu, Eigen::VectorXd& x, Timings* timings, bool check_pinned) {
+                LuFactor& lu, Eigen::VectorXd& x, Timings* timings, bool check_pinned,
+                double tolerance = 0.0) {
   const auto t0 = Clock::now();
   const bool ok = lu.factorize(reduce(k, make_reduction(kept))) &&
-                  solve_factored(k, kept, lu, b, x, check_pinned);
+                  solve_factored(k, kept, lu, b, x, check_pinned, tolerance);
   if (timings) {
     timings->factorisation += seconds_since(t0);
     ++timings->factorisations;
@@ -155,6 +164,155 @@ std::vector<ContactStatus> classify_contacts(const std::vector<ContactState>& st
   return statuses;
 }
 
+namespace {
+
+// B_N dq and B_T(q0) dq of a contact.
+std::array<double, 2> contact_rates(const ContactState& s, const Eigen::VectorXd& dq) {
+  double bn = 0.0, bt = 0.0;
+  for (int a = 0; a < n_local; ++a)
+    if (s.rows.dof[a] >= 0) {
+      bn += s.rows.bn[a] * dq[s.rows.dof[a]];
+      bt += s.rows.bt0[a] * dq[s.rows.dof[a]];
+    }
+  return {bn, bt};
+}
+
+bool slides(ContactStatus s) {
+  return s == ContactStatus::slide_positive || s == ContactStatus::slide_negative;
+}
+
+ContactStatus slide_status(double sign) {
+  return sign > 0.0 ? ContactStatus::slide_positive : ContactStatus::slide_negative;
+}
+
+// The status of a closed contact that the increment dq calls for (§S3.1), deciding every
+// comparison with a tie width (docs/static.md, "Round-off-robust decisions"): tau is the
+// round-off width of the increments' forces, the start forces add their own relative round-off.
+// Inside the tie width the current status is kept (a deterministic tie-break, and a hysteresis
+// that no round-off can flip). A contact critical at the start (on the cone to 1e-9) is judged by
+// the sign of its complementarity increment phi = mu dF_N - s dF_T alone, never by
+// |F_T| - mu F_N, which is round-off there.
+ContactStatus next_status(const ContactState& s, bool critical, ContactStatus current,
+                          const std::array<double, 2>& rate, double k_n, double k_t, double tau,
+                          double relative) {
+  const double d_fn = -k_n * rate[0], f_n = s.f_n + d_fn;
+  const double tau_n = tau + relative * s.f_n;
+  if (f_n < -tau_n || (f_n <= tau_n && current == ContactStatus::open))
+    return ContactStatus::open;
+  if (!s.frictional) return ContactStatus::slide_positive;
+  const double d_ft = -k_t * rate[1];
+  if (!slides(current)) {
+    const ContactStatus tie = ContactStatus::stick;  // also for a contact that was open
+    if (critical) {
+      const double sign = s.f_t > 0.0 ? 1.0 : -1.0;
+      const double phi = s.mu * d_fn - sign * d_ft;
+      return phi < -tau ? slide_status(sign) : tie;
+    }
+    const double f_t = s.f_t + d_ft;
+    const double excess = std::abs(f_t) - s.mu * f_n;
+    const double tau_t = tau + relative * s.mu * s.f_n;
+    if (excess > tau_t) return slide_status(f_t);
+    return excess < -tau_t ? ContactStatus::stick : tie;
+  }
+  // Plastic multiplier times K_T: dF_T = -K_T (B_T dq + s lambda) = s mu dF_N.
+  const double sign = current == ContactStatus::slide_positive ? 1.0 : -1.0;
+  const double k_t_lambda = -s.mu * d_fn - sign * k_t * rate[1];
+  return k_t_lambda < -tau ? ContactStatus::stick : current;
+}
+
+struct LcpResolution {
+  LcpResult::Outcome outcome = LcpResult::Outcome::undecided;
+  std::vector<ContactStatus> statuses;
+  std::string how;
+};
+
+// When the status iteration cycles: the rate problem over the contacts whose status it could not
+// settle (undecided, stick <-> slide in direction sign[c]) is an LCP on the Schur complement of
+// the tangent with those contacts sticking (STATIC.md §S3.1, second route): with S that tangent,
+// W_c = s_c K_T B_T,c^T, V_c = s_c K_T B_T,c - mu K_N B_N,c,
+//   S dq + W lambda = b,   phi = g + V dq + K_T lambda >= 0,   lambda >= 0,   lambda^T phi = 0,
+// i.e. phi = g + V S^-1 b + (K_T I - V S^-1 W) lambda, g_c = mu F_N - s F_T the distance to the
+// cone at the start (0 for a critical contact). All other contacts keep their last status.
+LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>& states,
+                             const std::vector<char>& critical, const Eigen::VectorXd& b,
+                             const std::vector<ContactStatus>& last,
+                             const std::vector<char>& undecided, const std::vector<double>& sign,
+                             int max_enumerated, const SolverOptions& options, Timings* timings) {
+  LcpResolution out;
+  std::vector<int> u;
+  for (std::size_t c = 0; c < states.size(); ++c)
+    if (undecided[c] && states[c].frictional && states[c].f_n > 0.0 &&
+        last[c] != ContactStatus::open && sign[c] != 0.0)
+      u.push_back(static_cast<int>(c));
+  if (u.empty()) {
+    out.how = "no frictional contact among the undecided ones";
+    return out;
+  }
+  out.statuses = last;
+  for (const int c : u) out.statuses[c] = ContactStatus::stick;
+  TangentParts parts;
+  parts.fixed_pattern = options.fixed_pattern;
+  const SparseMatrix k = assemble_tangent(net, states, out.statuses, parts);
+  const std::vector<char> kept = kept_dofs(net, states, out.statuses);
+  const Reduction r = make_reduction(kept);
+  LuFactor lu;
+  const auto t0 = Clock::now();
+  const bool factored = lu.factorize(reduce(k, r));
+  if (timings) {
+    timings->factorisation += seconds_since(t0);
+    ++timings->factorisations;
+    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
+  }
+  if (!factored) {
+    out.how = "the tangent with the undecided contacts sticking is singular";
+    return out;
+  }
+  const int n = static_cast<int>(u.size()), nk = static_cast<int>(r.reduced_to_full.size());
+  const double k_n = net.material.k_n, k_t = net.material.k_t;
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(nk, n), v = Eigen::MatrixXd::Zero(n, nk);
+  Eigen::VectorXd g(n);
+  bool pinned_touched = false;
+  for (int a = 0; a < n; ++a) {
+    const ContactState& s = states[u[a]];
+    const double sg = sign[u[a]];
+    g[a] = critical[u[a]] ? 0.0 : std::max(0.0, s.mu * s.f_n - sg * s.f_t);
+    for (int l = 0; l < n_local; ++l) {
+      const int d = s.rows.dof[l];
+      if (d < 0) continue;
+      const int i = r.full_to_reduced[d];
+      if (i < 0) {
+        pinned_touched = pinned_touched || s.rows.bt0[l] != 0.0 || s.rows.bn[l] != 0.0;
+        continue;
+      }
+      w(i, a) += sg * k_t * s.rows.bt0[l];
+      v(a, i) += sg * k_t * s.rows.bt0[l] - s.mu * k_n * s.rows.bn[l];
+    }
+  }
+  const Eigen::VectorXd dq0 = lu.solve(reduce(b, r));
+  Eigen::MatrixXd y(nk, n);
+  for (int a = 0; a < n; ++a) y.col(a) = lu.solve(w.col(a));
+  Eigen::VectorXd q = g + v * dq0;
+  Eigen::MatrixXd m = -v * y;
+  m.diagonal().array() += k_t;
+  // O(1) entries: lambda in units of q_scale / K_T.
+  const double q_scale = std::max(q.cwiseAbs().maxCoeff(), 1e-300);
+  const LcpResult lcp =
+      solve_lcp(m / k_t, q / q_scale, options.decision_tolerance, max_enumerated);
+  out.how = lcp.how + " over " + std::to_string(n) + " contacts";
+  out.outcome = lcp.outcome;
+  if (lcp.outcome == LcpResult::Outcome::no_solution && pinned_touched) {
+    // The pinned gear rows add equations that the reduced LCP does not see.
+    out.outcome = LcpResult::Outcome::undecided;
+    out.how += "; undecided contacts touch pinned gear rotations";
+  }
+  if (out.outcome == LcpResult::Outcome::solved)
+    for (int a = 0; a < n; ++a)
+      if (lcp.lambda[a] > options.decision_tolerance) out.statuses[u[a]] = slide_status(sign[u[a]]);
+  return out;
+}
+
+}  // namespace
+
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings,
                         const Eigen::VectorXd* rhs, const PredictorResult* warm) {
   const auto loop_start = Clock::now();
@@ -167,18 +325,68 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
     for (std::size_t c = 0; c < states.size(); ++c)
       if (p.statuses[c] != ContactStatus::open) p.statuses[c] = warm->statuses[c];
   }
-  p.ever_sliding.assign(states.size(), 0);
+  const std::size_t nc = states.size();
+  std::vector<char> critical(nc, 0), undecided(nc, 0);
+  std::vector<double> slide_sign(nc, 0.0);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const ContactState& s = states[c];
+    critical[c] = s.frictional && s.f_n > 0.0 && is_sliding(s.f_t, s.f_n, s.mu);
+    if (critical[c]) slide_sign[c] = s.f_t > 0.0 ? 1.0 : -1.0;
+  }
+  p.ever_sliding.assign(nc, 0);
   const double k_n = net.material.k_n, k_t = net.material.k_t;
-  std::unordered_set<std::string> seen;
+  const double eta = options.decision_tolerance;
+  std::unordered_map<std::string, int> seen;  // status vector -> its index in history
+  std::vector<std::string> history;
   std::shared_ptr<LuFactor> factor;
+  int lcp_rounds = 0;
   p.failure = "iterations";
   for (int it = 0; it < options.max_status_iterations; ++it) {
     p.iterations = it + 1;
     if (timings) ++timings->status_iterations;
     const std::string key(reinterpret_cast<const char*>(p.statuses.data()), p.statuses.size());
-    if (!seen.insert(key).second) {
-      p.failure = "cycle";
-      break;
+    const auto found = seen.find(key);
+    if (found != seen.end()) {
+      // A cycle proves nothing by itself: decide the statuses it could not settle exactly. First
+      // the LCP of the contacts whose status changes within the cycle (small: Lemke); if that
+      // finds no solution, the LCP of every contact that changed status in the loop or is
+      // critical, i.e. every contact that can change status under an infinitesimal increment
+      // (enumerated when Lemke ends on a ray and there are few enough of them).
+      std::vector<char> in_cycle(nc, 0);
+      for (std::size_t h = found->second; h < history.size(); ++h)
+        for (std::size_t c = 0; c < nc; ++c)
+          if (history[h][c] != key[c]) in_cycle[c] = 1;
+      LcpResolution lcp;
+      if (lcp_rounds < options.max_lcp_rounds) {
+        lcp = resolve_by_lcp(net, states, critical, r0, p.statuses, in_cycle, slide_sign, 0,
+                             options, timings);
+        if (lcp.outcome != LcpResult::Outcome::solved) {
+          std::vector<char> wide = undecided;
+          for (std::size_t c = 0; c < nc; ++c) wide[c] = wide[c] || critical[c];
+          lcp = resolve_by_lcp(net, states, critical, r0, p.statuses, wide, slide_sign,
+                               options.max_lcp_enumerated, options, timings);
+        }
+      }
+      ++lcp_rounds;
+      if (lcp.outcome == LcpResult::Outcome::no_solution) {
+        p.failure = "no consistent statuses (LCP: " + lcp.how + ")";
+        p.no_solution = true;
+        break;
+      }
+      if (lcp.outcome != LcpResult::Outcome::solved) {
+        p.failure = lcp.how.empty() ? "cycle" : "cycle (LCP undecided: " + lcp.how + ")";
+        break;
+      }
+      p.statuses = lcp.statuses;
+      seen.clear();
+      history.clear();
+      const std::string resolved(reinterpret_cast<const char*>(p.statuses.data()),
+                                 p.statuses.size());
+      seen.emplace(resolved, 0);
+      history.push_back(resolved);
+    } else {
+      seen.emplace(key, static_cast<int>(history.size()));
+      history.push_back(key);
     }
     if (it == 0 && warm && warm->factor && warm->statuses == p.statuses &&
         warm->tangent.rows() == net.dofs.size) {
@@ -188,7 +396,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       p.kept = warm->kept;
       factor = warm->factor;
       const auto t0 = Clock::now();
-      const bool solved = solve_factored(p.tangent, p.kept, *factor, r0, p.dq, true);
+      const bool solved = solve_factored(p.tangent, p.kept, *factor, r0, p.dq, true, eta);
       if (timings) timings->factorisation += seconds_since(t0);
       if (!solved) {
         p.failure = "singular";
@@ -202,47 +410,45 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       p.kept = kept_dofs(net, states, p.statuses);
       if (timings) timings->assembly += seconds_since(t0);
       factor = std::make_shared<LuFactor>();
-      if (!solve_kept(p.tangent, p.kept, r0, *factor, p.dq, timings, true)) {
+      if (!solve_kept(p.tangent, p.kept, r0, *factor, p.dq, timings, true, eta)) {
         p.failure = "singular";
         break;
       }
     }
-    // Complementarity checks on the linearised increment (§S3.1).
+    // Complementarity checks on the linearised increment (§S3.1), with the tie width of this
+    // iterate: eta times the largest contact force increment.
+    std::vector<std::array<double, 2>> rates(nc);
+    double largest = 0.0;
+    for (std::size_t c = 0; c < nc; ++c) {
+      if (states[c].f_n <= 0.0) continue;
+      rates[c] = contact_rates(states[c], p.dq);
+      largest = std::max({largest, std::abs(rates[c][0]), std::abs(rates[c][1])});
+    }
+    const double tau = eta * std::max(k_n, k_t) * largest;
+    // A disk whose contacts are all open under these statuses has no dofs in this iterate (see
+    // kept_dofs): its increment is undetermined, and the rates of its contacts computed with
+    // u = 0 would depend on the translation gauge (which disk is pinned). They stay open; the
+    // corrector, which moves every disk, decides whether they close.
+    const DofMap& m = net.dofs;
+    const auto dropped = [&](int i) { return i >= 0 && m.ux[i] >= 0 && !p.kept[m.ux[i]]; };
     bool consistent = true;
-    for (std::size_t c = 0; c < states.size(); ++c) {
+    for (std::size_t c = 0; c < nc; ++c) {
       const ContactState& s = states[c];
       if (s.f_n <= 0.0) continue;  // closing gaps are events for the corrector
-      const ContactRows& row = s.rows;
-      double bn_dq = 0.0, bt_dq = 0.0;
-      for (int a = 0; a < n_local; ++a)
-        if (row.dof[a] >= 0) {
-          bn_dq += row.bn[a] * p.dq[row.dof[a]];
-          bt_dq += row.bt0[a] * p.dq[row.dof[a]];
-        }
-      const double d_fn = -k_n * bn_dq, f_n = s.f_n + d_fn;
-      ContactStatus next = p.statuses[c];
-      if (f_n < 0.0) {
-        next = ContactStatus::open;
-      } else if (!s.frictional) {
-        next = ContactStatus::slide_positive;
-      } else if (p.statuses[c] == ContactStatus::open || p.statuses[c] == ContactStatus::stick) {
-        const double f_t = s.f_t - k_t * bt_dq;
-        next = std::abs(f_t) > s.mu * f_n
-                   ? (f_t > 0.0 ? ContactStatus::slide_positive : ContactStatus::slide_negative)
-                   : ContactStatus::stick;
-      } else {
-        // Plastic multiplier: dF_T = -K_T (B_T dq + s lambda) = s mu dF_N.
-        const double sign = p.statuses[c] == ContactStatus::slide_positive ? 1.0 : -1.0;
-        const double lambda = -s.mu * d_fn / k_t - sign * bt_dq;
-        if (lambda < 0.0) next = ContactStatus::stick;
-      }
+      if (p.statuses[c] == ContactStatus::open &&
+          (dropped(net.contacts.i[c]) || dropped(net.contacts.j[c])))
+        continue;
+      const ContactStatus next =
+          next_status(s, critical[c], p.statuses[c], rates[c], k_n, k_t, tau, eta);
       if (next != p.statuses[c]) {
         consistent = false;
+        undecided[c] = 1;
         p.statuses[c] = next;
       }
-      if (s.frictional && (next == ContactStatus::slide_positive ||
-                           next == ContactStatus::slide_negative))
+      if (s.frictional && slides(next)) {
         p.ever_sliding[c] = 1;
+        slide_sign[c] = next == ContactStatus::slide_positive ? 1.0 : -1.0;
+      }
     }
     if (consistent) {
       p.ok = true;

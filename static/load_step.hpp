@@ -20,6 +20,16 @@ struct SolverOptions {
   int max_newton_iterations = 40;
   int max_status_iterations = 200;
   int max_closing_rounds = 5;
+  // Relative round-off width of the discrete decisions of the complementarity loop (statuses,
+  // the pinned gear rows): a comparison closer than this times the size of its terms keeps the
+  // current status (docs/static.md, "Round-off-robust decisions").
+  double decision_tolerance = 1e-8;
+  // When the status iteration cycles, the undecided contacts are resolved by an exact LCP
+  // (Lemke, then enumeration): at most this many times per loop (0: report the cycle).
+  int max_lcp_rounds = 3;
+  // Largest such LCP whose principal bases are all enumerated when Lemke ends on a ray (2^n
+  // small solves): only then can it prove that no consistent status set exists.
+  int max_lcp_enumerated = 18;
   // Tangents of the predictor and corrector with a fixed sparsity pattern (TangentParts): fewer
   // symbolic analyses, but other round-off, hence another path and q1 (docs/static.md).
   bool fixed_pattern = false;
@@ -59,7 +69,9 @@ std::vector<ContactStatus> classify_contacts(const std::vector<ContactState>& st
 
 struct PredictorResult {
   bool ok = false;
-  std::string failure;  // "singular", "cycle", "iterations"
+  std::string failure;  // "singular", "cycle...", "iterations", "no consistent statuses..."
+  // The LCP of the undecided contacts proved that no consistent status set exists.
+  bool no_solution = false;
   Eigen::VectorXd dq;
   std::vector<ContactStatus> statuses;  // consistent statuses of the increment
   int determinant_sign = 0;             // of K(statuses) on the kept dofs
@@ -72,7 +84,9 @@ struct PredictorResult {
 
 // Piecewise-linear complementarity problem at the start of the step, by iterating statuses and
 // solving the full unsymmetric K with UMFPACK each time; cycles are detected by hashing the
-// status vectors. net carries the loads of the end of the step.
+// status vectors, and a cycle is settled by the exact LCP of the contacts whose status changed
+// (a solution continues the loop, a proof of no solution sets no_solution). net carries the
+// loads of the end of the step.
 // With rhs given, it replaces R(0) (the stability check solves for a pure load increment); with
 // warm given (a loop run at the same state), the loop starts from its statuses instead of
 // classify_contacts, and reuses its factor while the statuses agree.

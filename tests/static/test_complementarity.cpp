@@ -1,0 +1,110 @@
+// The exact LCP behind the existence criterion (static/complementarity,
+// docs/static.md "Existence of a consistent status set"): small constructed
+// problems with a known answer, on which the status iteration of the predictor
+// (block principal pivoting: flip every inconsistent status at once) cycles.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <vector>
+
+#include <Eigen/LU>
+
+#include "static/complementarity.hpp"
+
+namespace granstab::statics {
+namespace {
+
+// The predictor's rule on an LCP: contacts in alpha slide (lambda free, w = 0);
+// then a sliding one with lambda < 0 sticks and a sticking one with w < 0
+// slides, all at once. Starts with every contact sliding (as the predictor
+// starts critical contacts). True if it settles.
+bool block_pivoting_settles(const Eigen::MatrixXd& m, const Eigen::VectorXd& q) {
+  const int n = static_cast<int>(q.size());
+  std::vector<char> alpha(n, 1);
+  std::set<std::vector<char>> seen;
+  while (seen.insert(alpha).second) {
+    std::vector<int> a;
+    for (int i = 0; i < n; ++i)
+      if (alpha[i]) a.push_back(i);
+    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
+    if (!a.empty()) {
+      Eigen::MatrixXd maa(a.size(), a.size());
+      Eigen::VectorXd qa(a.size());
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        qa[i] = -q[a[i]];
+        for (std::size_t j = 0; j < a.size(); ++j) maa(i, j) = m(a[i], a[j]);
+      }
+      const Eigen::VectorXd la = maa.fullPivLu().solve(qa);
+      for (std::size_t i = 0; i < a.size(); ++i) lambda[a[i]] = la[i];
+    }
+    const Eigen::VectorXd w = q + m * lambda;
+    std::vector<char> next(n);
+    for (int i = 0; i < n; ++i) next[i] = alpha[i] ? lambda[i] >= 0.0 : w[i] < 0.0;
+    if (next == alpha) return true;
+    alpha = next;
+  }
+  return false;
+}
+
+void expect_solution(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const LcpResult& r) {
+  ASSERT_EQ(r.outcome, LcpResult::Outcome::solved) << r.how;
+  const Eigen::VectorXd w = q + m * r.lambda;
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    EXPECT_GE(r.lambda[i], 0.0);
+    EXPECT_GE(w[i], -1e-12);
+    EXPECT_LE(std::min(r.lambda[i], w[i]), 1e-12);
+  }
+}
+
+TEST(Complementarity, CyclingIterationButASolutionExists) {
+  // Found by a search over small integer LCPs; the unique solution is lambda =
+  // (1, 1, 0), w = (0, 0, 2).
+  Eigen::MatrixXd m(3, 3);
+  m << 1, 0, 3, 0, 3, -2, 3, 1, 4;
+  const Eigen::VectorXd q = (Eigen::VectorXd(3) << -1, -3, -2).finished();
+  EXPECT_FALSE(block_pivoting_settles(m, q));
+  const LcpResult r = solve_lcp(m, q);
+  expect_solution(m, q, r);
+  EXPECT_NEAR(r.lambda[0], 1.0, 1e-12);
+  EXPECT_NEAR(r.lambda[1], 1.0, 1e-12);
+  EXPECT_NEAR(r.lambda[2], 0.0, 1e-12);
+}
+
+TEST(Complementarity, CyclingIterationAndNoSolution) {
+  Eigen::MatrixXd m(3, 3);
+  m << 1, 2, 4, -3, 1, -1, -1, -2, 1;
+  const Eigen::VectorXd q = (Eigen::VectorXd(3) << -3, 0, -3).finished();
+  EXPECT_FALSE(block_pivoting_settles(m, q));
+  const LcpResult r = solve_lcp(m, q);
+  EXPECT_EQ(r.outcome, LcpResult::Outcome::no_solution) << r.how;
+  // Without enumeration Lemke's ray proves nothing: undecided.
+  EXPECT_EQ(solve_lcp(m, q, 1e-10, 0).outcome, LcpResult::Outcome::undecided);
+}
+
+TEST(Complementarity, OneContactLimitPoint) {
+  // A contact whose sticking increment leaves the cone (q < 0) and whose
+  // sliding branch has a negative stiffness (M < 0): no consistent status
+  // (docs/static.md, contact (17, 78)).
+  const Eigen::MatrixXd m = Eigen::MatrixXd::Constant(1, 1, -0.5);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(1, -1.0);
+  EXPECT_EQ(solve_lcp(m, q).outcome, LcpResult::Outcome::no_solution);
+  // With a positive sliding stiffness it slides: lambda = 2.
+  const LcpResult r = solve_lcp(-m, q);
+  expect_solution(-m, q, r);
+  EXPECT_NEAR(r.lambda[0], 2.0, 1e-12);
+}
+
+TEST(Complementarity, PMatrixAlwaysSolvedByLemke) {
+  // Positive definite (unsymmetric) M: a P-matrix, unique solution for every q.
+  Eigen::MatrixXd m(4, 4);
+  m << 4, 1, -1, 0.5, 0, 3, 1, -1, 1, -1, 5, 0, 0.5, 1, 0, 2;
+  for (int k = 0; k < 16; ++k) {
+    Eigen::VectorXd q(4);
+    for (int i = 0; i < 4; ++i) q[i] = (k >> i) & 1 ? -1.0 - i : 0.5 * i;
+    const LcpResult r = solve_lcp(m, q);
+    expect_solution(m, q, r);
+  }
+}
+
+}  // namespace
+}  // namespace granstab::statics
