@@ -67,6 +67,38 @@ void rebuild_degrees_of_freedom(Network& net) {
   net.dofs = build_dof_map(o);
 }
 
+void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq) {
+  const DofMap old = net.dofs;
+  DofOptions o;
+  o.active.assign(net.n_disks(), 0);
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    o.active[i] = old.active(i);
+    // The pinned translation: an active disk without u (rotation_fixed aside).
+    if (old.ux[i] < 0 && old.theta[i] >= 0) o.pinned_translation = static_cast<int>(i);
+  }
+  bool changed = false;
+  for (const int i : disks)
+    if (i >= 0 && !o.active[i]) {
+      o.active[i] = 1;
+      changed = true;
+    }
+  if (!changed) return;
+  o.rotation_fixed = net.constraints.rotation_fixed;
+  o.cell = net.constraints.cell_free;
+  net.dofs = build_dof_map(o);
+  Eigen::VectorXd moved = Eigen::VectorXd::Zero(net.dofs.size);
+  const auto carry = [&](int from, int to) {
+    if (from >= 0 && to >= 0) moved[to] = dq[from];
+  };
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    carry(old.ux[i], net.dofs.ux[i]);
+    carry(old.uy[i], net.dofs.uy[i]);
+    carry(old.theta[i], net.dofs.theta[i]);
+  }
+  for (int a = 0; a < 2; ++a) carry(old.e[a], net.dofs.e[a]);
+  dq = std::move(moved);
+}
+
 std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>& states,
                             const std::vector<ContactStatus>& statuses) {
   const DofMap& m = net.dofs;

@@ -15,6 +15,11 @@ std::vector<char> force_carrying_disks(const Network& net, const std::vector<Con
 // no dofs; in a periodic cell without fixed disks, one backbone disk's u is removed.
 void rebuild_degrees_of_freedom(Network& net);
 
+// Gives the listed disks dofs in the middle of a step (a rattler that an active disk closed on),
+// keeping every other dof and the pinned translation; dq is carried over to the new numbering
+// (the new dofs start at 0, i.e. at the affinely moved position the rattler had).
+void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq);
+
 // Gear modes (§S3.5): rotations theta only, with a_i theta_i + a_j theta_j = 0 on every sticking
 // frictional contact (a lone disk whose contacts all slide or are frictionless is a cluster of
 // one). They change no force (B_N v = 0, t.D v = 0 by construction), so one rotation per free

@@ -11,7 +11,8 @@
 
 namespace granstab::statics {
 
-std::vector<NewContact> closing_contacts(const Network& net, const Eigen::VectorXd& dq) {
+std::vector<NewContact> closing_contacts(const Network& net, const Eigen::VectorXd& dq,
+                                         bool with_rattlers) {
   const DofMap& m = net.dofs;
   const std::size_t n = net.n_disks();
   const std::array<double, 2> e = cell_extension(net, dq);
@@ -41,7 +42,10 @@ std::vector<NewContact> closing_contacts(const Network& net, const Eigen::Vector
         found.push_back({static_cast<int>(i), w, 0, 0});
   }
   const auto consider = [&](int a, int b, int k1, int k2) {
-    if (!m.active(a) || !m.active(b)) return;
+    // With with_rattlers, a rattler (no dofs: it moves affinely) that an active disk closes on
+    // is found too; the load step then gives it dofs (activate_disks). Two rattlers never push
+    // each other.
+    if (with_rattlers ? !m.active(a) && !m.active(b) : !m.active(a) || !m.active(b)) return;
     const double dx = x[b] + k1 * l1 - x[a], dy = y[b] + k2 * l2 - y[a];
     const double reach = net.radius[a] + net.radius[b];
     if (dx * dx + dy * dy < reach * reach && !known.count({a, b, k1, k2}))

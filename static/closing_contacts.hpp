@@ -1,6 +1,7 @@
 #pragma once
 // New contacts that close during a step (STATIC.md §S3.1 events, §S3.2): pairs of force-carrying
-// disks, or a disk and a wall, that overlap at dq and are not in the contact list.
+// disks (with with_rattlers: pairs of which at least one is, i.e. also a rattler that an active
+// disk closes on), or an active disk and a wall, that overlap at dq and are not in the list.
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,8 +14,8 @@ struct NewContact {
   int i, j, k1, k2;
 };
 
-// Simple search over all pairs of active disks (minimum image in periodic cells). To be replaced
-// by the common cell-list pair search once it is committed; O(N^2) is a few tens of ms at 5600.
-std::vector<NewContact> closing_contacts(const Network& net, const Eigen::VectorXd& dq);
+// The common cell-list pair search (all pairs at their minimum image in cells too small for it).
+std::vector<NewContact> closing_contacts(const Network& net, const Eigen::VectorXd& dq,
+                                         bool with_rattlers = false);
 
 }  // namespace granstab::statics

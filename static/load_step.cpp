@@ -529,7 +529,8 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
       step.failure = "corrector";
       break;
     }
-    const std::vector<NewContact> closing = closing_contacts(trial, step.corrector.dq);
+    const std::vector<NewContact> closing =
+        closing_contacts(trial, step.corrector.dq, options.push_rattlers);
     if (closing.empty()) {
       step.ok = true;
       break;
@@ -539,9 +540,16 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
       break;
     }
     // New overlaps become contacts with F_T = 0 and the corrector restarts from there (§S3.2).
-    for (const NewContact& c : closing) trial.contacts.add(c.i, c.j, c.k1, c.k2);
+    // A rattler closed on by an active disk gets dofs now, so that it is pushed along.
+    std::vector<int> rattlers;
+    for (const NewContact& c : closing) {
+      trial.contacts.add(c.i, c.j, c.k1, c.k2);
+      for (const int d : {c.i, c.j})
+        if (!is_wall(d) && !trial.dofs.active(d)) rattlers.push_back(d);
+    }
     step.new_contacts += static_cast<int>(closing.size());
     dq = step.corrector.dq;
+    activate_disks(trial, rattlers, dq);
   }
   if (timings) timings->corrector += seconds_since(t0);
   if (!step.ok) return step;

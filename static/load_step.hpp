@@ -33,6 +33,11 @@ struct SolverOptions {
   // Tangents of the predictor and corrector with a fixed sparsity pattern (TangentParts): fewer
   // symbolic analyses, but other round-off, hence another path and q1 (docs/static.md).
   bool fixed_pattern = false;
+  // Rattlers that an active disk closes on become contacts and get dofs in the same step (they
+  // are pushed along instead of being overlapped). Off by default: on periodic-n100 it moves q1
+  // above the rigid limit of the start network and makes it depend on the ordering again
+  // (docs/static.md, "Rattlers closed on by the cage").
+  bool push_rattlers = false;
 };
 
 // Force, torque and cell-row scales of the relative residual (mean contact force, mean radius,
