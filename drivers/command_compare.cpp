@@ -1,13 +1,18 @@
 // granstab compare SAMPLE --dq X: the cross-check of SPEC §5. Both methods run from the sample's
 // equilibrium with the same delta q (drivers/crosscheck.hpp); this file parses, calls, writes
-// every output atomically once everything is computed, and prints a verdict table.
+// every output atomically once everything is computed, and prints a verdict table. The dynamic
+// half writes checkpoints like the other protocol commands (--set checkpoint.every_steps=N ...)
+// and `granstab resume` continues it (docs/reliability.md).
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,7 +20,10 @@
 #include "commands.hpp"
 #include "common/atomic_file.hpp"
 #include "common/io/configuration_file.hpp"
+#include "common/run_config.hpp"
 #include "crosscheck.hpp"
+#include "dynamic/protocols/settings.hpp"
+#include "resumable.hpp"
 
 namespace granstab::cli {
 namespace {
@@ -23,6 +31,7 @@ namespace {
 struct CompareCommandOptions {
   std::string sample;
   std::string out = "compare-out";
+  std::vector<std::string> overrides;  // --set: [engine], [checkpoint] and [sanity] settings
   crosscheck::CrosscheckOptions run;
 };
 
@@ -70,27 +79,167 @@ void print_verdict(const crosscheck::CrosscheckResult& r, const std::filesystem:
   std::fflush(stdout);
 }
 
-void run_compare(const CompareCommandOptions& o) {
-  const Configuration sample = read_configuration(o.sample);
-  const crosscheck::CrosscheckResult r = crosscheck::run_crosscheck(sample, o.run);
-  // Everything is formatted before the first file is written: an error leaves no partial output.
-  const crosscheck::JsonContext context{o.sample, o.run.dq, o.run.q_max};
-  const std::vector<std::pair<std::string, std::string>> files{
-      {"static_curve.csv", crosscheck::static_curve_csv(r.statics)},
-      {"dynamic_curve.csv", crosscheck::dynamic_curve_csv(r.dynamic)},
-      {"matched.csv", crosscheck::matched_csv(r.comparison)},
-      {"disks_at_q1.csv", crosscheck::disks_at_q1_csv(r.statics)},
-      {"network_at_q1.csv", crosscheck::network_at_q1_csv(r.statics)},
-      {"mode.csv", crosscheck::mode_csv(r.statics)},
-      {"compare.json", crosscheck::compare_json(context, o.run, r)},
-  };
-  const std::filesystem::path dir = o.out;
-  std::filesystem::create_directories(dir);
-  for (const auto& [name, text] : files) write_file_atomically(dir / name, text);
-  print_verdict(r, dir);
+// The files compare writes into its output directory, in this order.
+constexpr const char* output_names[] = {"static_curve.csv", "dynamic_curve.csv", "matched.csv",
+                                        "disks_at_q1.csv",  "network_at_q1.csv", "mode.csv",
+                                        "compare.json"};
+
+// Declares compare's options on cmd: the subcommand, or the parser a resume runs on the stored
+// arguments.
+void add_options(CLI::App& cmd, CompareCommandOptions& o) {
+  cmd.add_option("SAMPLE", o.sample, "equilibrium configuration file (docs/file-format.md)")
+      ->required();
+  cmd.add_option("--dq", o.run.dq, "delta q of both methods")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--q-max", o.run.q_max,
+                 "highest q of both runs (default: static to q1, dynamic a few steps beyond)")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--steps-after-q1", o.run.steps_after_q1,
+                 "dynamic increments beyond q1 when --q-max is not given")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--mu", o.run.mu,
+                 "friction of the biaxial stage, both methods (default: the sample's material.mu)")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--out", o.out, "output directory")->capture_default_str();
+  cmd.add_option("--force-tolerance", o.run.equilibration.tolerances.force,
+                 "dynamic SPEC 3.1 net-force tolerance (units of aP)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--torque-tolerance", o.run.equilibration.tolerances.torque,
+                 "dynamic SPEC 3.1 net-torque tolerance (units of a^2 P)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--stress-tolerance", o.run.equilibration.tolerances.stress,
+                 "dynamic SPEC 3.1 relative stress tolerance")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--max-steps-per-increment", o.run.equilibration.max_steps,
+                 "MD steps allowed to reach equilibrium after one increment")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--epsilon-2-max", o.run.epsilon_2_max,
+                 "the dynamic run stops when epsilon_2 exceeds this (the sample flows)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--dynamic-substeps", o.run.dynamic_substeps,
+                 "dynamic run: each delta q as N stress steps of delta q / N (a staircase "
+                 "ramp), states recorded at multiples of delta q only")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--static-substeps", o.run.static_substeps,
+                 "static run: steps of delta q / N, states compared at multiples of delta q")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_flag("!--no-hill", o.run.statics.hill,
+               "skip the Hill indicator of the static states (faster)");
+  cmd.add_option("--set", o.overrides,
+                 "key=value: the dynamic half's engine.dt_fraction, engine.skin, checkpoint.path "
+                 "(default OUT/compare.checkpoint), checkpoint.every_steps, "
+                 "checkpoint.every_seconds, sanity.* (as in the settings of the other commands, "
+                 "docs/reliability.md)");
+}
+
+CompareCommandOptions parse_arguments(const std::vector<std::string>& arguments) {
+  CompareCommandOptions o;
+  CLI::App parser{"granstab compare", "compare"};
+  add_options(parser, o);
+  std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());  // CLI11's order
+  parser.parse(reversed);
+  return o;
+}
+
+// Fingerprint of everything the static half gives the outputs and the dynamic half: a resume
+// re-runs the static half and refuses to go on if it does not give the same bits.
+std::string static_fingerprint(const crosscheck::CrosscheckResult& r, double q_end) {
+  std::string text = crosscheck::static_curve_csv(r.statics) +
+                     crosscheck::disks_at_q1_csv(r.statics) +
+                     crosscheck::network_at_q1_csv(r.statics) + crosscheck::mode_csv(r.statics);
+  for (const double v :
+       {r.statics.q1, r.statics.q1_bracket[0], r.statics.q1_bracket[1], r.rigid.q_max, q_end}) {
+    text += crosscheck::json_number(v) + ' ';
+  }
+  text += std::string(statics::criterion_name(r.statics.criterion)) + r.statics.detail +
+          r.rigid.status + std::to_string(r.statics.steps) + ' ' +
+          std::to_string(r.statics.sliding_at_q1.size());
+  return std::to_string(protocols::fnv1a64(text));
 }
 
 }  // namespace
+
+void run_compare(const protocols::Invocation& invocation, const protocols::Checkpoint* checkpoint) {
+  CompareCommandOptions o = parse_arguments(invocation.arguments);
+  const std::filesystem::path dir = o.out;
+  RunConfig rc = invocation.settings_config();  // the --set overrides, and a resume's
+  o.run.engine = protocols::read_engine_options(rc);
+  const protocols::GuardSettings guard_settings =
+      protocols::read_guard_settings(rc, dir / "compare.checkpoint");
+  rc.finish();
+  std::vector<std::filesystem::path> outputs{guard_settings.checkpoint};
+  for (const char* name : output_names) outputs.push_back(dir / name);
+  protocols::remove_stale_temporaries(outputs);
+  const Configuration sample = read_configuration(o.sample);
+  const std::string input_checksum = protocols::file_checksum(o.sample);
+  if (checkpoint) require_same_input(*checkpoint, o.sample, input_checksum);
+
+  // The static half is not checkpointed: a resume runs it again (deterministic, and a small
+  // part of the time) and checks it gives the same bits (docs/reliability.md).
+  crosscheck::CrosscheckResult r = crosscheck::run_static_half(sample, o.run);
+  const double q_end = crosscheck::dynamic_q_end(r, o.run);
+  const std::string static_checksum = static_fingerprint(r, q_end);
+  if (checkpoint && checkpoint->text("compare.static_checksum") != static_checksum) {
+    throw std::runtime_error(checkpoint->source_name() +
+                             ": the static half, run again, differs from the one before the "
+                             "checkpoint (another build or thread count?); cannot resume");
+  }
+
+  protocols::LoopControl control;
+  Configuration from = r.start;
+  double seconds_before = 0.0;
+  if (checkpoint) {
+    from = checkpoint->configuration("engine");
+    r.dynamic = crosscheck::parse_dynamic_run_state(checkpoint->text("compare.dynamic"));
+    seconds_before = checkpoint->number("run.wall_seconds");  // of the dynamic half
+    control.cursor = protocols::get_cursor(*checkpoint);
+    control.resume = true;
+  }
+  protocols::RunGuard guard(guard_settings, "compare");
+  const auto started = std::chrono::steady_clock::now();
+  const auto dynamic_seconds = [&] {
+    return seconds_before +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  };
+  const auto build = [&](const Engine& e, const protocols::Cursor& cursor) {
+    protocols::Checkpoint c =
+        checkpoint_head(invocation, e, cursor, input_checksum, dynamic_seconds());
+    c.set("compare.static_checksum", static_checksum);
+    c.set("compare.dynamic", crosscheck::dynamic_run_state(r.dynamic));
+    return c;
+  };
+  guard.on_write([&] {
+    const auto parent = guard_settings.checkpoint.parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+  });
+  control.hooks = guard_hooks(guard, build);
+  crosscheck::run_dynamic(from, o.run, q_end, r.dynamic, control);
+  r.dynamic_seconds = dynamic_seconds();
+  crosscheck::compare_halves(r, o.run);
+
+  // Everything is formatted before the first file is written: an error leaves no partial output.
+  const crosscheck::JsonContext context{o.sample, o.run.dq, o.run.q_max};
+  const std::string texts[] = {
+      crosscheck::static_curve_csv(r.statics),    crosscheck::dynamic_curve_csv(r.dynamic),
+      crosscheck::matched_csv(r.comparison),      crosscheck::disks_at_q1_csv(r.statics),
+      crosscheck::network_at_q1_csv(r.statics),   crosscheck::mode_csv(r.statics),
+      crosscheck::compare_json(context, o.run, r)};
+  std::filesystem::create_directories(dir);
+  for (std::size_t k = 0; k < std::size(output_names); ++k) {
+    write_file_atomically(dir / output_names[k], texts[k]);
+  }
+  guard.finish();
+  print_verdict(r, dir);
+}
 
 void add_compare_command(CLI::App& app) {
   auto o = std::make_shared<CompareCommandOptions>();
@@ -99,54 +248,16 @@ void add_compare_command(CLI::App& app) {
       "Cross-check (SPEC §5): static stepping and dynamic SIC from the same equilibrium sample "
       "with the same delta q; writes DIR/static_curve.csv, dynamic_curve.csv, compare.json and "
       "the files `granstab plot DIR` draws");
-  cmd->add_option("SAMPLE", o->sample, "equilibrium configuration file (docs/file-format.md)")
-      ->required();
-  cmd->add_option("--dq", o->run.dq, "delta q of both methods")
-      ->required()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--q-max", o->run.q_max,
-                  "highest q of both runs (default: static to q1, dynamic a few steps beyond)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--steps-after-q1", o->run.steps_after_q1,
-                  "dynamic increments beyond q1 when --q-max is not given")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--mu", o->run.mu,
-                  "friction of the biaxial stage, both methods (default: the sample's material.mu)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--out", o->out, "output directory")->capture_default_str();
-  cmd->add_option("--force-tolerance", o->run.equilibration.tolerances.force,
-                  "dynamic SPEC 3.1 net-force tolerance (units of aP)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--torque-tolerance", o->run.equilibration.tolerances.torque,
-                  "dynamic SPEC 3.1 net-torque tolerance (units of a^2 P)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--stress-tolerance", o->run.equilibration.tolerances.stress,
-                  "dynamic SPEC 3.1 relative stress tolerance")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--max-steps-per-increment", o->run.equilibration.max_steps,
-                  "MD steps allowed to reach equilibrium after one increment")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--epsilon-2-max", o->run.epsilon_2_max,
-                  "the dynamic run stops when epsilon_2 exceeds this (the sample flows)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--dynamic-substeps", o->run.dynamic_substeps,
-                  "dynamic run: each delta q as N stress steps of delta q / N (a staircase "
-                  "ramp), states recorded at multiples of delta q only")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--static-substeps", o->run.static_substeps,
-                  "static run: steps of delta q / N, states compared at multiples of delta q")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_flag("!--no-hill", o->run.statics.hill,
-                "skip the Hill indicator of the static states (faster)");
-  cmd->callback([o] { run_compare(*o); });
+  add_options(*cmd, *o);
+  cmd->callback([o] {
+    // The arguments as given, kept in checkpoints and parsed again by run_compare and a resume.
+    const std::vector<std::string>& line = command_line();
+    const auto at = std::find(line.begin(), line.end(), "compare");
+    if (at == line.end()) throw std::logic_error("compare: not on the command line");
+    run_compare(
+        protocols::Invocation::from_arguments("compare", {at + 1, line.end()}, o->overrides),
+        nullptr);
+  });
 }
 
 }  // namespace granstab::cli

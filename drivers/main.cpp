@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "dynamic/protocols/run_guard.hpp"
+#include "resumable.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"granstab: quasistatic deformation of 2D granular packings, by molecular dynamics "
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
   granstab::cli::add_compare_command(app);
   granstab::cli::add_plot_command(app);
   granstab::cli::add_resume_command(app);
+  granstab::cli::command_line().assign(argv + 1, argv + argc);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

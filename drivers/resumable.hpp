@@ -1,8 +1,10 @@
 #pragma once
 // The protocol commands that checkpoint and can be continued by `granstab resume` (issue #8,
 // docs/reliability.md). Each runs either fresh (checkpoint == nullptr) or from a checkpoint it
-// wrote; the settings come from the Invocation (the settings text kept in the checkpoint).
+// wrote; the settings come from the Invocation (the settings text or, for compare, the command
+// line kept in the checkpoint).
 #include <string>
+#include <vector>
 
 #include "dynamic/protocols/checkpoint.hpp"
 #include "dynamic/protocols/run_guard.hpp"
@@ -17,6 +19,15 @@ void run_creep(const protocols::Invocation& invocation, bool quiet,
                const protocols::Checkpoint* checkpoint);
 void run_perturb(const protocols::Invocation& invocation, bool quiet,
                  const protocols::Checkpoint* checkpoint);
+// The dynamic half of `compare` (its static half is run again on a resume).
+void run_compare(const protocols::Invocation& invocation, const protocols::Checkpoint* checkpoint);
+
+// The program's arguments (argv[1..]), kept by main() for the commands that store their command
+// line in checkpoints (compare).
+inline std::vector<std::string>& command_line() {
+  static std::vector<std::string> arguments;
+  return arguments;
+}
 
 // The hooks every command gives its protocol loops: sanity checks before records, and at safe
 // points a checkpoint made by `build(engine, cursor)` when the guard wants one.

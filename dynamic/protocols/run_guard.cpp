@@ -1,5 +1,7 @@
 #include "run_guard.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdio>
 #include <fstream>
@@ -54,12 +56,46 @@ Invocation Invocation::start(std::string command, std::string settings,
   }
   inv.overrides = std::move(overrides);
   inv.working_directory = std::filesystem::current_path();
+  remove_stale_temporaries(inv.named_outputs());
+  return inv;
+}
+
+Invocation Invocation::from_arguments(std::string command, std::vector<std::string> arguments,
+                                      std::vector<std::string> overrides) {
+  Invocation inv;
+  inv.command = std::move(command);
+  inv.arguments = std::move(arguments);
+  inv.overrides = std::move(overrides);
+  inv.working_directory = std::filesystem::current_path();
   return inv;
 }
 
 RunConfig Invocation::settings_config() const {
+  if (settings.empty()) return RunConfig::from_string("", "command line", overrides);
   const std::filesystem::path file(settings);
   return RunConfig::from_string(settings_text, file.string(), overrides, file.parent_path());
+}
+
+void Invocation::add_resume_overrides(const std::vector<std::string>& extra) {
+  const auto& allowed = resumable_settings();
+  for (const std::string& assignment : extra) {
+    const auto eq = assignment.find('=');
+    std::string key = assignment.substr(0, eq);
+    key.erase(0, key.find_first_not_of(" \t"));
+    key.erase(key.find_last_not_of(" \t") + 1);
+    if (eq == std::string::npos ||
+        std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+      std::string list;
+      for (const auto& k : allowed) list += (list.empty() ? "" : ", ") + k;
+      throw std::invalid_argument(
+          "resume: --set " + assignment + ": " +
+          (eq == std::string::npos ? std::string("overrides read key=value")
+                                   : key + " cannot change in the middle of a run (the state "
+                                           "in the checkpoint depends on it; start a new run)") +
+          "; resume may change only " + list);
+    }
+    overrides.push_back(assignment);
+  }
 }
 
 void Invocation::put(Checkpoint& c) const {
@@ -71,6 +107,12 @@ void Invocation::put(Checkpoint& c) const {
     c.set("run.override_" + std::to_string(k), overrides[k]);
   }
   c.set("run.working_directory", working_directory.string());
+  if (!arguments.empty()) {
+    c.set_count("run.arguments", arguments.size());
+    for (std::size_t k = 0; k < arguments.size(); ++k) {
+      c.set("run.argument_" + std::to_string(k), arguments[k]);
+    }
+  }
 }
 
 Invocation Invocation::get(const Checkpoint& c) {
@@ -82,7 +124,67 @@ Invocation Invocation::get(const Checkpoint& c) {
   if (n > 10000) throw std::runtime_error(c.source_name() + ": entry run.overrides: too many");
   for (std::uint64_t k = 0; k < n; ++k) inv.overrides.push_back(c.text("run.override_" + std::to_string(k)));
   inv.working_directory = c.text("run.working_directory");
+  const std::uint64_t n_arguments = c.has("run.arguments") ? c.count("run.arguments") : 0;
+  if (n_arguments > 10000) {
+    throw std::runtime_error(c.source_name() + ": entry run.arguments: too many");
+  }
+  for (std::uint64_t k = 0; k < n_arguments; ++k) {
+    inv.arguments.push_back(c.text("run.argument_" + std::to_string(k)));
+  }
   return inv;
+}
+
+std::vector<std::filesystem::path> Invocation::named_outputs() const {
+  std::vector<std::filesystem::path> paths;
+  if (settings.empty()) return paths;
+  try {
+    RunConfig rc = settings_config();
+    for (const char* key : {"output.csv", "output.sample", "output.summary", "output.hold_sample",
+                            "output.save_prefix", "output.vtk", "checkpoint.path"}) {
+      if (!rc.contains(key)) continue;
+      if (const auto p = rc.path(key)) paths.push_back(*p);
+    }
+  } catch (const std::exception&) {
+    paths.clear();  // unreadable settings: the command says why
+  }
+  return paths;
+}
+
+namespace {
+
+// ".NAME.tmp-XXXXXX" (mkstemp's six characters): NAME, or "" when it is not such a name.
+std::string temporary_of(const std::string& file) {
+  constexpr std::string_view tag = ".tmp-";
+  if (file.size() < 1 + tag.size() + 6 || file[0] != '.') return {};
+  const std::size_t at = file.size() - 6 - tag.size();
+  if (file.compare(at, tag.size(), tag) != 0) return {};
+  for (std::size_t k = file.size() - 6; k < file.size(); ++k) {
+    if (!std::isalnum(static_cast<unsigned char>(file[k]))) return {};
+  }
+  return file.substr(1, at - 1);
+}
+
+}  // namespace
+
+std::size_t remove_stale_temporaries(const std::vector<std::filesystem::path>& outputs) {
+  std::size_t removed = 0;
+  for (const std::filesystem::path& output : outputs) {
+    const std::filesystem::path dir = output.parent_path().empty() ? "." : output.parent_path();
+    const std::string stem = output.stem().string();
+    if (stem.empty()) continue;
+    std::error_code error;
+    std::filesystem::directory_iterator it(dir, error), end;
+    if (error) continue;  // no directory yet: nothing stale in it
+    std::vector<std::filesystem::path> stale;
+    for (; !error && it != end; it.increment(error)) {
+      const std::string name = temporary_of(it->path().filename().string());
+      if (name == stem || name.starts_with(stem + ".") || name.starts_with(stem + "_")) {
+        stale.push_back(it->path());
+      }
+    }
+    for (const auto& p : stale) removed += std::filesystem::remove(p, error) ? 1 : 0;
+  }
+  return removed;
 }
 
 std::string file_checksum(const std::filesystem::path& path) {

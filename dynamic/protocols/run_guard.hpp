@@ -53,18 +53,53 @@ class BlewUp : public std::runtime_error {
 // kept whole, so editing the settings file afterwards does not change a resumed run.
 struct Invocation {
   std::string command;                 // "prepare", "biaxial", ...
-  std::string settings;                // the settings path as given
+  std::string settings;                // the settings path as given ("" for `compare`)
   std::string settings_text;
   std::vector<std::string> overrides;  // --set key=value
+  // A command set up by its command line (`compare`): its arguments as given, parsed again by a
+  // resume (the overrides among them are also in `overrides`, which a resume may extend).
+  std::vector<std::string> arguments;
   std::filesystem::path working_directory;
-  // Reads the settings file (throws like RunConfig::from_file when it cannot).
+  // Reads the settings file (throws like RunConfig::from_file when it cannot) and removes the
+  // stale temporaries of the outputs it names (remove_stale_temporaries).
   static Invocation start(std::string command, std::string settings,
                           std::vector<std::string> overrides);
-  // The settings exactly as RunConfig::from_file would read them.
+  // A command without a settings file: its settings are the overrides alone.
+  static Invocation from_arguments(std::string command, std::vector<std::string> arguments,
+                                   std::vector<std::string> overrides);
+  // The settings exactly as RunConfig::from_file would read them (the overrides alone, named
+  // "command line", when there is no settings file).
   RunConfig settings_config() const;
+  // The --set overrides of `granstab resume`: only the settings that may change in the middle of
+  // a run (resumable_settings); any other key throws std::invalid_argument naming it. They are
+  // kept for the checkpoints written after (a later resume keeps them).
+  void add_resume_overrides(const std::vector<std::string>& extra);
+  // The files and name prefixes the settings give the outputs ([output] csv, sample, summary,
+  // hold_sample, save_prefix, vtk; checkpoint.path), resolved like the commands resolve them;
+  // empty when there is no settings file or it cannot be read (the command reports that).
+  std::vector<std::filesystem::path> named_outputs() const;
   void put(Checkpoint& checkpoint) const;
   static Invocation get(const Checkpoint& checkpoint);
 };
+
+// The settings `granstab resume --set` may change: they do not enter the state a checkpoint
+// holds, only how the run goes on from it (a smaller time step to retry a run that blew up, the
+// sanity limits, when and where checkpoints are written).
+inline const std::vector<std::string>& resumable_settings() {
+  static const std::vector<std::string> keys{
+      "engine.dt_fraction", "sanity.max_overlap_fraction", "sanity.max_kinetic_energy",
+      "sanity.every_steps", "checkpoint.every_steps",      "checkpoint.every_seconds",
+      "checkpoint.path"};
+  return keys;
+}
+
+// A kill in the middle of write_file_atomically leaves its hidden temporary ".NAME.tmp-XXXXXX"
+// beside NAME. A run, when it starts or resumes, removes those of the names it owns: for each of
+// `outputs` (a file or a prefix of names, STEM its name without extension), the temporaries in
+// its directory whose NAME is STEM, or begins with "STEM." or "STEM_" (the defaults derived from
+// an output, e.g. run.json and run.checkpoint beside run.csv, and the saved states and snapshots
+// PREFIX_...). Returns how many were removed.
+std::size_t remove_stale_temporaries(const std::vector<std::filesystem::path>& outputs);
 
 // The checksum of an input file, stored in checkpoints so that a resume refuses a changed input.
 std::string file_checksum(const std::filesystem::path& path);
