@@ -2,53 +2,27 @@
 // with the CSV files, bad input gives a clear error and no output, the pictures are drawn.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "run_granstab.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
+using granstab::testing::CommandResult;
+using granstab::testing::slurp;
+using granstab::testing::Workdir;
 
 const fs::path sample =
     fs::path(GRANSTAB_SOURCE_DIR) / "data" / "samples" / "periodic-n100-k1e4.granstab";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-struct CommandResult {
-  int exit_code;
-  std::string out, err;
-};
-
-CommandResult run(const fs::path& root, const std::string& args) {
-  // Built with += : GCC 12 warns falsely (-Wrestrict) on long literal + string chains.
-  std::string command = "'";
-  command += GRANSTAB_EXE;
-  command += "' ";
-  command += args;
-  command += " > '";
-  command += (root / "stdout").string();
-  command += "' 2> '";
-  command += (root / "stderr").string();
-  command += "'";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(root / "stdout"),
-          slurp(root / "stderr")};
-}
 
 // The number after "key": in a flat JSON object (NaN when absent or null).
 double json_number(const std::string& json, const std::string& key) {
@@ -86,12 +60,11 @@ std::vector<std::map<std::string, double>> read_csv(const fs::path& p) {
 
 // One test (ctest runs each test in its own process): the compare run is its set-up.
 TEST(CompareCommand, WritesConsistentCurvesAndJsonAndPlotDrawsThem) {
-  const fs::path root =
-      fs::temp_directory_path() / ("granstab-compare-" + std::to_string(std::random_device{}()));
-  fs::create_directories(root);
+  const Workdir dir("compare");
+  const fs::path& root = dir.path();
   const CommandResult result =
-      run(root, "compare '" + sample.string() + "' --dq 0.01 --q-max 0.02 --mu 0.5 " +
-                     "--no-hill --out '" + (root / "out").string() + "'");
+      dir.run("compare '" + sample.string() + "' --dq 0.01 --q-max 0.02 --mu 0.5 " +
+              "--no-hill --out '" + (root / "out").string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("verdict:"), std::string::npos) << result.out;
   const fs::path out = root / "out";
@@ -141,10 +114,9 @@ TEST(CompareCommand, WritesConsistentCurvesAndJsonAndPlotDrawsThem) {
 
   // granstab plot draws the pictures from these files.
   if (std::system("MPLBACKEND=Agg /usr/bin/python3 -c 'import matplotlib' 2> /dev/null") != 0) {
-    fs::remove_all(root);
     GTEST_SKIP() << "/usr/bin/python3 has no matplotlib";
   }
-  const CommandResult r = run(root, "plot '" + (root / "out").string() + "'");
+  const CommandResult r = dir.run("plot '" + (root / "out").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* name : {"curves", "difference", "sample_at_q1"})
     for (const char* ext : {".png", ".svg"}) {
@@ -152,15 +124,13 @@ TEST(CompareCommand, WritesConsistentCurvesAndJsonAndPlotDrawsThem) {
       ASSERT_TRUE(fs::exists(p)) << p;
       EXPECT_GT(fs::file_size(p), 1000u) << p;
     }
-  fs::remove_all(root);
 }
 
 TEST(CompareCommandErrors, BadInputGivesAClearErrorAndNoOutput) {
-  const fs::path root =
-      fs::temp_directory_path() / ("granstab-compare-bad-" + std::to_string(std::random_device{}()));
-  fs::create_directories(root);
+  const Workdir dir("compare-bad");
+  const fs::path& root = dir.path();
   // A missing sample.
-  CommandResult r = run(root, "compare '" + (root / "missing.granstab").string() +
+  CommandResult r = dir.run("compare '" + (root / "missing.granstab").string() +
                                   "' --dq 0.01 --out '" + (root / "a").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("missing.granstab"), std::string::npos) << r.err;
@@ -171,24 +141,23 @@ TEST(CompareCommandErrors, BadInputGivesAClearErrorAndNoOutput) {
   ASSERT_NE(at, std::string::npos);
   text.replace(at, 20, "stage.sigma_ext 1 1.5\n");
   std::ofstream(root / "aniso.granstab") << text;
-  r = run(root, "compare '" + (root / "aniso.granstab").string() + "' --dq 0.01 --out '" +
+  r = dir.run("compare '" + (root / "aniso.granstab").string() + "' --dq 0.01 --out '" +
                     (root / "b").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("sigma_ext"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(root / "b"));
   // A negative step and a negative friction are refused before anything runs.
-  r = run(root, "compare '" + sample.string() + "' --dq -1 --out '" + (root / "c").string() + "'");
+  r = dir.run("compare '" + sample.string() + "' --dq -1 --out '" + (root / "c").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_FALSE(fs::exists(root / "c"));
-  r = run(root, "compare '" + sample.string() + "' --dq 0.01 --mu -0.2 --out '" +
+  r = dir.run("compare '" + sample.string() + "' --dq 0.01 --mu -0.2 --out '" +
                     (root / "d").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_FALSE(fs::exists(root / "d"));
   // plot on a directory without compare.json.
-  r = run(root, "plot '" + root.string() + "'");
+  r = dir.run("plot '" + root.string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("compare.json"), std::string::npos) << r.err;
-  fs::remove_all(root);
 }
 
 }  // namespace

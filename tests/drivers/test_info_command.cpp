@@ -1,54 +1,30 @@
 // `granstab info` end to end: the built binary on the shipped tiny sample and on a broken file.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <sstream>
 #include <string>
+
+#include "run_granstab.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using granstab::testing::CommandResult;
+using granstab::testing::slurp;
 
 const fs::path samples_dir = GRANSTAB_SAMPLES_DIR;
 const fs::path periodic_sample = samples_dir / "tiny-triangular-periodic.granstab";
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-struct CommandResult {
-  int exit_code;
-  std::string out, err;
-};
-
-// Runs granstab with the given arguments in a fresh empty directory, capturing both streams
-// outside it so that anything the command writes there is visible.
+// Runs granstab in a fresh empty directory, so that anything the command writes there is visible.
 class InfoCommand : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("granstab-info-" + std::to_string(std::random_device{}()));
-    work_ = root_ / "work";
-    fs::create_directories(work_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
+  CommandResult run(const std::string& args) { return dir_.run(args); }
 
-  CommandResult run(const std::string& args) {
-    const std::string command = "cd '" + work_.string() + "' && '" + GRANSTAB_EXE + "' " + args +
-                                " > '" + (root_ / "out").string() + "' 2> '" +
-                                (root_ / "err").string() + "'";
-    const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(root_ / "out"), slurp(root_ / "err")};
-  }
-
-  fs::path root_, work_;
+  granstab::testing::Workdir dir_{"info"};
+  const fs::path& root_ = dir_.root();
+  const fs::path& work_ = dir_.path();
 };
 
 TEST_F(InfoCommand, PrintsTheMeasurementsOfTheTinySample) {

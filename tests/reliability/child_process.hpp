@@ -15,11 +15,13 @@
 #include <thread>
 #include <vector>
 
+#include "run_granstab.hpp"
+
 namespace granstab::testing {
 
 class Child {
  public:
-  // Runs GRANSTAB_EXE with args in dir, one OpenMP thread, stderr to dir/../stderr.log.
+  // Runs the built granstab (granstab_exe()) with args in dir, one OpenMP thread, stderr to dir/../stderr.log.
   Child(const std::filesystem::path& dir, const std::vector<std::string>& args,
         int threads = 1) {
     const std::string log = (dir.parent_path() / "stderr.log").string();
@@ -33,7 +35,7 @@ class Child {
       ::dup2(null, 1);
       ::dup2(err, 2);
       std::vector<char*> argv;
-      std::string exe = GRANSTAB_EXE;
+      std::string exe = granstab_exe();
       argv.push_back(exe.data());
       std::vector<std::string> copy = args;
       for (auto& a : copy) argv.push_back(a.data());

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "../protocols/run_granstab.hpp"
+#include "run_granstab.hpp"
 #include "dynamic/protocols/checkpoint.hpp"
 
 namespace granstab {

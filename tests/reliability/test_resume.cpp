@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "child_process.hpp"
-#include "../protocols/run_granstab.hpp"
+#include "run_granstab.hpp"
 
 namespace granstab {
 namespace {
@@ -27,10 +27,12 @@ using testing::Workdir;
 const std::string sample =
     (fs::path(GRANSTAB_SOURCE_DIR) / "data/samples/periodic-n100-k1e4.granstab").string();
 
-// Every output file of dir by name, JSON summaries without their wall_seconds line.
+// Every output file under dir by relative name, JSON summaries without their wall-clock lines
+// ("wall_seconds"; compare's "static_seconds", "dynamic_seconds", "rigid_seconds").
 std::map<std::string, std::string> outputs(const fs::path& dir) {
   std::map<std::string, std::string> files;
-  for (const auto& e : fs::directory_iterator(dir)) {
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
     const std::string name = e.path().filename().string();
     if (name.starts_with(".") || name.ends_with(".toml")) continue;
     std::string text = testing::slurp(e.path());
@@ -38,11 +40,11 @@ std::map<std::string, std::string> outputs(const fs::path& dir) {
       std::istringstream in(text);
       std::string line, kept;
       while (std::getline(in, line)) {
-        if (line.find("\"wall_seconds\"") == std::string::npos) kept += line + "\n";
+        if (line.find("_seconds\"") == std::string::npos) kept += line + "\n";
       }
       text = kept;
     }
-    files[name] = text;
+    files[fs::relative(e.path(), dir).string()] = text;
   }
   return files;
 }
@@ -51,6 +53,13 @@ struct Scenario {
   std::string command;     // "prepare", "biaxial", ...
   std::string settings;    // TOML text
   std::string checkpoint;  // the checkpoint file the settings name
+  // The command line of the first run; default: COMMAND --quiet run.toml.
+  std::vector<std::string> arguments = {};
+  std::string final_output = "";  // a file only a finished run writes (Signals tests)
+
+  std::vector<std::string> start() const {
+    return arguments.empty() ? std::vector<std::string>{command, "--quiet", "run.toml"} : arguments;
+  }
 };
 
 // Runs the scenario uninterrupted in one directory, and in another killed with SIGKILL after
@@ -61,15 +70,14 @@ int compare_killed_with_uninterrupted(const Scenario& s, const std::vector<int>&
   testing::spit(reference / "run.toml", s.settings);
   testing::spit(killed / "run.toml", s.settings);
   {
-    Child run(reference.path(), {s.command, "--quiet", "run.toml"});
+    Child run(reference.path(), s.start());
     EXPECT_EQ(run.wait(), 0) << testing::slurp(reference.path().parent_path() / "stderr.log");
   }
   int kills = 0;
   bool finished = false;
   for (const int k : kill_after) {
     const std::vector<std::string> args =
-        kills == 0 ? std::vector<std::string>{s.command, "--quiet", "run.toml"}
-                   : std::vector<std::string>{"resume", "--quiet", s.checkpoint};
+        kills == 0 ? s.start() : std::vector<std::string>{"resume", "--quiet", s.checkpoint};
     Child run(killed.path(), args);
     if (!run.signal_after(killed / s.checkpoint, k, SIGKILL)) {
       EXPECT_EQ(run.wait(), 0) << testing::slurp(killed.path().parent_path() / "stderr.log");
@@ -91,6 +99,10 @@ int compare_killed_with_uninterrupted(const Scenario& s, const std::vector<int>&
     EXPECT_EQ(rest.wait(), 0) << testing::slurp(killed.path().parent_path() / "stderr.log");
   }
   EXPECT_FALSE(fs::exists(killed / s.checkpoint)) << "a finished run removes its checkpoint";
+  // A kill in an atomic write leaves a temporary; the next resume removes it.
+  for (const auto& e : fs::recursive_directory_iterator(killed.path())) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  }
   const auto expected = outputs(reference.path()), got = outputs(killed.path());
   EXPECT_EQ(expected.size(), got.size());
   for (const auto& [name, text] : expected) {
@@ -221,17 +233,16 @@ every_steps = 2000
 
 // SIGINT and SIGTERM: the handler only sets a flag; the loop writes a checkpoint at its next
 // safe point and the command exits with 128 + signal and a message saying how to continue.
-void interrupt_and_resume(int signal) {
-  const Scenario s{"prepare", prepare_settings, "tiny.checkpoint"};
+void interrupt_and_resume(const Scenario& s, int signal) {
   Workdir reference("signal-ref"), stopped("signal-stop");
   testing::spit(reference / "run.toml", s.settings);
   testing::spit(stopped / "run.toml", s.settings);
   {
-    Child run(reference.path(), {s.command, "--quiet", "run.toml"});
+    Child run(reference.path(), s.start());
     ASSERT_EQ(run.wait(), 0);
   }
   {
-    Child run(stopped.path(), {s.command, "--quiet", "run.toml"});
+    Child run(stopped.path(), s.start());
     ASSERT_TRUE(run.signal_after(stopped / s.checkpoint, 2, signal)) << "finished too early";
     EXPECT_EQ(run.wait(), 128 + signal);
   }
@@ -239,9 +250,9 @@ void interrupt_and_resume(int signal) {
   EXPECT_NE(err.find(signal == SIGINT ? "stopped by SIGINT" : "stopped by SIGTERM"),
             std::string::npos)
       << err;
-  EXPECT_NE(err.find("granstab resume tiny.checkpoint"), std::string::npos) << err;
+  EXPECT_NE(err.find("granstab resume " + s.checkpoint), std::string::npos) << err;
   ASSERT_TRUE(fs::exists(stopped / s.checkpoint));
-  EXPECT_FALSE(fs::exists(stopped / "tiny.granstab")) << "no final output from a stopped run";
+  EXPECT_FALSE(fs::exists(stopped / s.final_output)) << "no final output from a stopped run";
   {
     Child rest(stopped.path(), {"resume", "--quiet", s.checkpoint});
     ASSERT_EQ(rest.wait(), 0) << testing::slurp(stopped.path().parent_path() / "stderr.log");
@@ -249,8 +260,35 @@ void interrupt_and_resume(int signal) {
   EXPECT_EQ(outputs(reference.path()), outputs(stopped.path()));
 }
 
-TEST(Signals, SigtermWritesACheckpointAndExits143) { interrupt_and_resume(SIGTERM); }
-TEST(Signals, SigintWritesACheckpointAndExits130) { interrupt_and_resume(SIGINT); }
+const Scenario prepare_scenario{
+    "prepare", prepare_settings, "tiny.checkpoint", {}, "tiny.granstab"};
+
+TEST(Signals, SigtermWritesACheckpointAndExits143) {
+  interrupt_and_resume(prepare_scenario, SIGTERM);
+}
+TEST(Signals, SigintWritesACheckpointAndExits130) {
+  interrupt_and_resume(prepare_scenario, SIGINT);
+}
+
+// compare: the dynamic SIC half checkpoints ([checkpoint] settings given with --set); the static
+// half is run again by the resume. Two substeps per delta q, so that a checkpoint between two
+// recorded states holds the steps since the last record. About 70 checkpoints.
+const Scenario compare_scenario{
+    "compare",
+    "",
+    "out/compare.checkpoint",
+    {"compare", sample, "--dq", "0.01", "--q-max", "0.03", "--mu", "0.5", "--no-hill",
+     "--dynamic-substeps", "2", "--out", "out", "--set", "checkpoint.every_steps=400"},
+    "out/compare.json"};
+
+TEST(Resume, CompareKilledEndsIdentical) {
+  const int kills = compare_killed_with_uninterrupted(compare_scenario, {2, 9, 17, 25});
+  EXPECT_GE(kills, 3);
+}
+
+TEST(Signals, CompareSigtermWritesACheckpointAndExits143) {
+  interrupt_and_resume(compare_scenario, SIGTERM);
+}
 
 TEST(Resume, RefusesADamagedCheckpointAndAChangedInput) {
   Workdir dir("resume-bad");
@@ -283,6 +321,111 @@ every_steps = 100
   r = dir.run("resume src.checkpoint");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("changed since the run started"), std::string::npos) << r.err;
+}
+
+// `granstab resume --set`: the settings that may change in the middle of a run are taken (a
+// smaller time step for a run that blew up), the others refused with a message.
+double json_value(const std::string& json, const std::string& key) {
+  const std::size_t at = json.find("\"" + key + "\": ");
+  return at == std::string::npos ? -1.0 : std::strtod(json.c_str() + at + key.size() + 4, nullptr);
+}
+
+TEST(Resume, SetChangesOnlyTheSettingsThatMayChangeMidRun) {
+  Workdir dir("resume-set"), reference("resume-set-ref");
+  const std::string settings = "[input]\nsample = \"" + sample + "\"\n" + R"(
+[biaxial]
+gamma = 1e-3
+epsilon_2_max = 4e-3
+[output]
+csv = "src.csv"
+[checkpoint]
+every_steps = 100
+)";
+  testing::spit(dir / "run.toml", settings);
+  testing::spit(reference / "run.toml", settings);
+  ASSERT_EQ(reference.run("biaxial --quiet run.toml").exit_code, 0);
+  {
+    Child run(dir.path(), {"biaxial", "--quiet", "run.toml"});
+    ASSERT_TRUE(run.signal_after(dir / "src.checkpoint", 2, SIGTERM));
+    ASSERT_EQ(run.wait(), 128 + SIGTERM);
+  }
+  const std::string before = testing::slurp(dir / "src.checkpoint");
+  for (const char* bad :
+       {"input.sample=other.granstab", "biaxial.gamma=1e-2", "engine.skin=0.2", "dt_fraction"}) {
+    const auto r = dir.run(std::string("resume --quiet --set ") + bad + " src.checkpoint");
+    EXPECT_EQ(r.exit_code, 1) << bad;
+    EXPECT_NE(r.err.find("resume may change only engine.dt_fraction"), std::string::npos) << r.err;
+    EXPECT_EQ(testing::slurp(dir / "src.checkpoint"), before) << "a refused resume runs nothing";
+  }
+  auto r = dir.run("resume --quiet --set biaxial.gamma=1e-2 src.checkpoint");
+  EXPECT_NE(r.err.find("biaxial.gamma cannot change in the middle of a run"), std::string::npos)
+      << r.err;
+  // Too large a time step: it blows up, and the checkpoint keeps the last sane state.
+  r = dir.run("resume --quiet --set engine.dt_fraction=5 src.checkpoint");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("blew up"), std::string::npos) << r.err;
+  ASSERT_TRUE(fs::exists(dir / "src.checkpoint"));
+  // Retried with half the default step and no more checkpoints: it finishes with that step,
+  // and removes the checkpoint it was resumed from although it wrote none.
+  r = dir.run(
+      "resume --quiet --set engine.dt_fraction=0.025 --set checkpoint.every_steps=0 "
+      "--set checkpoint.every_seconds=0 src.checkpoint");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "src.checkpoint"));
+  const double dt = json_value(testing::slurp(dir / "src.json"), "dt");
+  const double dt_reference = json_value(testing::slurp(reference / "src.json"), "dt");
+  ASSERT_GT(dt_reference, 0.0);
+  EXPECT_DOUBLE_EQ(dt, 0.5 * dt_reference);
+}
+
+// A kill during an atomic write leaves ".NAME.tmp-XXXXXX" beside NAME (simulated here by
+// creating such files): the next run, or resume, of the same outputs removes those it owns and
+// nothing else.
+TEST(Resume, StaleTemporariesOfTheOutputsAreRemovedByTheNextRunAndResume) {
+  Workdir dir("resume-tmp");
+  testing::spit(dir / "run.toml", "[input]\nsample = \"" + sample + "\"\n" + R"(
+[biaxial]
+gamma = 1e-3
+epsilon_2_max = 4e-3
+[output]
+csv = "src.csv"
+save_every = 1e-3
+[checkpoint]
+every_steps = 100
+)");
+  const std::vector<std::string> owned{".src.csv.tmp-Ab12Cd", ".src.checkpoint.tmp-x1y2z3",
+                                       ".src.json.tmp-QWERTY",
+                                       ".src_e2_0.001000.granstab.tmp-a1b2c3"};
+  const std::vector<std::string> foreign{".other.csv.tmp-Ab12Cd", ".src.csv.tmp-abc",
+                                         ".srcx.csv.tmp-Ab12Cd", "src.csv.tmp-Ab12Cd"};
+  const auto plant = [&](const std::vector<std::string>& names) {
+    for (const auto& n : names) testing::spit(dir / n, "partial");
+  };
+  const auto check = [&](const char* when) {
+    for (const auto& n : owned) EXPECT_FALSE(fs::exists(dir / n)) << n << " after " << when;
+    for (const auto& n : foreign) EXPECT_TRUE(fs::exists(dir / n)) << n << " after " << when;
+  };
+  plant(owned);
+  plant(foreign);
+  {
+    Child run(dir.path(), {"biaxial", "--quiet", "run.toml"});
+    ASSERT_TRUE(run.signal_after(dir / "src.checkpoint", 1, SIGTERM));
+    ASSERT_EQ(run.wait(), 128 + SIGTERM);
+  }
+  check("a new run");
+  plant(owned);
+  ASSERT_EQ(dir.run("resume --quiet src.checkpoint").exit_code, 0);
+  check("a resume");
+  // compare: the temporaries of its output directory and checkpoint.
+  fs::create_directories(dir / "out");
+  const std::vector<std::string> compare_owned{"out/.compare.checkpoint.tmp-x1y2z3",
+                                               "out/.dynamic_curve.csv.tmp-Ab12Cd",
+                                               "out/.compare.json.tmp-QWERTY"};
+  plant(compare_owned);
+  const auto r =
+      dir.run("compare '" + sample + "' --dq 0.01 --q-max 0.01 --mu 0.5 --no-hill --out out");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const auto& n : compare_owned) EXPECT_FALSE(fs::exists(dir / n)) << n;
 }
 
 }  // namespace

@@ -23,10 +23,8 @@ target_compile_definitions(test_hill_and_samples PRIVATE
   GRANSTAB_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/data/samples")
 granstab_add_test(test_q1_command
   SOURCES test_q1_command.cpp
-  LIBS)
-add_dependencies(test_q1_command granstab)
+  LIBS granstab_test_support)
 target_compile_definitions(test_q1_command PRIVATE
-  GRANSTAB_EXE="$<TARGET_FILE:granstab>"
   GRANSTAB_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/data/samples")
 granstab_add_test(test_closing_contacts
   SOURCES test_closing_contacts.cpp
