@@ -128,10 +128,10 @@ void expect_same_q1(const std::string& name, double mu, double dq, double q1_tol
 
 // periodic-n100 at its own mu = 0.15, dq = 1e-3. Tolerance 2e-5: the fixed pattern reproduces
 // the default path (curves within 2.5e-12) and q1 exactly; the relabelling (seed 1) takes one
-// step cut more (a corrector that fails in one ordering and converges in the other at
-// q = 0.282125) and ends 8.8e-6 lower. 2e-5 is below the O(dq) path error of q1 itself
-// (2.4e-5 between dq = 1e-3 and 1e-4 on this sample, docs/static.md §S3.3); before the robust
-// decisions the relabelled run ended at 0.283383 against 0.298513 (1.5e-2 apart). (Seed 2
+// step cut more at q = 0.282125 (its predictor returns other statuses for the rejected attempt
+// to 0.283, docs/static.md) and ends 8.8e-6 lower. 2e-5 is below the O(dq) path error of q1
+// itself (2.4e-5 between dq = 1e-3 and 1e-4 on this sample, docs/static.md §S3.3); before the
+// robust decisions the relabelled run ended at 0.283383 against 0.298513 (1.5e-2 apart). (Seed 2
 // reproduces the default path exactly now; seed 3 with the fixed pattern is like seed 1.)
 TEST(RoundOff, PeriodicSampleSameQ1WithOtherOrderings) {
   expect_same_q1("periodic-n100-k1e4.granstab", 0.0, 1e-3, 2e-5);
