@@ -2,9 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
 #include <umfpack.h>
 
 namespace granstab::statics {
@@ -28,19 +34,15 @@ Eigen::VectorXd SymmetricFactor::solve(const Eigen::VectorXd& b) const {
   return impl_->llt.solve(b);
 }
 
-struct LuFactor::Impl {
-  SparseMatrix k;  // compressed copy: UMFPACK keeps pointers to it between calls
-  void* numeric = nullptr;
-  ~Impl() {
-    if (numeric) umfpack_di_free_numeric(&numeric);
-  }
-};
-
 namespace {
 
 void umfpack_control(double* control) {
   umfpack_di_defaults(control);
   control[UMFPACK_PRL] = 0;
+  // Allocate the estimated peak of the numeric factorisation at once (default: 70 % of it): the
+  // reallocations and copies as the factors grow took ~19 % of a q1 run at N = 1400 (perf). The
+  // arithmetic is the same, hence the same bits (bench/README.md, "Static solver").
+  control[UMFPACK_ALLOC_INIT] = 1.0;
 }
 
 // Symbolic analyses (orderings) of the last few sparsity patterns factorised in this thread: a load
@@ -61,7 +63,8 @@ class SymbolicCache {
       if (!std::equal(x.col.begin(), x.col.end(), k.outerIndexPtr()) ||
           !std::equal(x.row.begin(), x.row.end(), k.innerIndexPtr()))
         continue;
-      std::rotate(entries_.begin(), entries_.begin() + e, entries_.begin() + e + 1);  // most recent first
+      std::rotate(entries_.begin(), entries_.begin() + e,
+                  entries_.begin() + e + 1);  // most recent first
       reused = true;
       return entries_.front().symbolic;
     }
@@ -103,66 +106,340 @@ SymbolicCache& symbolic_cache() {
   return cache;
 }
 
-}  // namespace
-
-LuFactor::LuFactor() : impl_(std::make_unique<Impl>()) {}
-LuFactor::~LuFactor() = default;
-
-bool LuFactor::factorize(const SparseMatrix& k) {
-  Impl& m = *impl_;
-  if (m.numeric) umfpack_di_free_numeric(&m.numeric);
-  det_sign_ = 0;
-  log10_det_ = -INFINITY;
-  symbolic_reused_ = false;
-  m.k = k;
-  m.k.makeCompressed();
-  const int n = static_cast<int>(m.k.rows());
-  if (n == 0) {
-    det_sign_ = 1;
-    log10_det_ = 0.0;
-    return true;
+// One UMFPACK numeric factorisation with the matrix it factorised (its solves refine against it).
+struct NumericLu {
+  SparseMatrix k;  // compressed: UMFPACK keeps pointers to it between calls
+  void* numeric = nullptr;
+  int sign = 0;
+  double log10_det = -INFINITY;
+  NumericLu() = default;
+  NumericLu(const NumericLu&) = delete;
+  NumericLu& operator=(const NumericLu&) = delete;
+  ~NumericLu() {
+    if (numeric) umfpack_di_free_numeric(&numeric);
   }
+  // sys: UMFPACK_A or UMFPACK_At. refine: UMFPACK's own iterative refinement (up to 2 steps);
+  // the low-rank updates refine against their own matrix instead.
+  Eigen::VectorXd solve(int sys, const Eigen::VectorXd& b, bool refine = true) const {
+    if (!numeric) throw std::logic_error("LuFactor::solve without a successful factorisation");
+    Eigen::VectorXd x(b.size());
+    double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
+    umfpack_control(control);
+    if (!refine) control[UMFPACK_IRSTEP] = 0;
+    const int status = umfpack_di_solve(sys, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(),
+                                        x.data(), b.data(), numeric, control, info);
+    if (status != UMFPACK_OK) throw std::runtime_error("UMFPACK solve failed");
+    return x;
+  }
+};
+
+// Factorises k (compressed) with UMFPACK; false when singular or failed. reused: the symbolic
+// analysis came from the cache.
+bool factorize_numeric(NumericLu& lu, bool& reused) {
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
   umfpack_control(control);
-  void* symbolic = symbolic_cache().get(m.k, control, symbolic_reused_);
+  ++lu_statistics().numeric;
+  void* symbolic = symbolic_cache().get(lu.k, control, reused);
+  if (!reused) ++lu_statistics().symbolic;
   if (!symbolic) return false;
-  const int status = umfpack_di_numeric(m.k.outerIndexPtr(), m.k.innerIndexPtr(),
-                                        m.k.valuePtr(), symbolic, &m.numeric, control, info);
+  const int status = umfpack_di_numeric(lu.k.outerIndexPtr(), lu.k.innerIndexPtr(), lu.k.valuePtr(),
+                                        symbolic, &lu.numeric, control, info);
   if (status != UMFPACK_OK) {  // includes UMFPACK_WARNING_singular_matrix
-    if (m.numeric) umfpack_di_free_numeric(&m.numeric);
+    if (lu.numeric) umfpack_di_free_numeric(&lu.numeric);
     return false;
   }
   // Mantissa and base-10 exponent: det K overflows a double for any realistic network.
   double mantissa = 0.0, exponent = 0.0;
-  if (umfpack_di_get_determinant(&mantissa, &exponent, m.numeric, info) != UMFPACK_OK)
+  if (umfpack_di_get_determinant(&mantissa, &exponent, lu.numeric, info) != UMFPACK_OK)
     return false;
-  det_sign_ = mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
-  log10_det_ = std::log10(std::abs(mantissa)) + exponent;
-  return det_sign_ != 0;
+  lu.sign = mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
+  lu.log10_det = std::log10(std::abs(mantissa)) + exponent;
+  return lu.sign != 0;
+}
+
+// Recent full factorisations of this thread that low-rank updates start from.
+std::vector<std::shared_ptr<const NumericLu>>& base_factors() {
+  thread_local std::vector<std::shared_ptr<const NumericLu>> bases;
+  return bases;
+}
+
+void remember_base(std::shared_ptr<const NumericLu> lu) {
+  constexpr std::size_t capacity = 3;
+  auto& bases = base_factors();
+  bases.insert(bases.begin(), std::move(lu));
+  if (bases.size() > capacity) bases.pop_back();
+}
+
+// The columns in which k and k0 (same size, compressed) differ in value; false when more than
+// limit. An entry stored in one and absent from the other counts as a difference unless it is 0.
+bool changed_columns(const SparseMatrix& k, const SparseMatrix& k0, int limit,
+                     std::vector<int>& cols) {
+  cols.clear();
+  const int* p = k.outerIndexPtr();
+  const int* p0 = k0.outerIndexPtr();
+  const int* i = k.innerIndexPtr();
+  const int* i0 = k0.innerIndexPtr();
+  const double* x = k.valuePtr();
+  const double* x0 = k0.valuePtr();
+  for (int j = 0; j < k.outerSize(); ++j) {
+    int a = p[j], a0 = p0[j];
+    const int end = p[j + 1], end0 = p0[j + 1];
+    bool differs = false;
+    while ((a < end || a0 < end0) && !differs) {
+      if (a < end && a0 < end0 && i[a] == i0[a0]) {
+        differs = x[a++] != x0[a0++];
+      } else if (a0 >= end0 || (a < end && i[a] < i0[a0])) {
+        differs = x[a++] != 0.0;
+      } else {
+        differs = x0[a0++] != 0.0;
+      }
+    }
+    if (!differs) continue;
+    if (static_cast<int>(cols.size()) == limit) return false;
+    cols.push_back(j);
+  }
+  return true;
+}
+
+}  // namespace
+
+LuReuse& default_lu_reuse() {
+  thread_local LuReuse reuse;
+  return reuse;
+}
+
+LuStatistics& lu_statistics() {
+  thread_local LuStatistics statistics;
+  return statistics;
+}
+
+// K = K0 + U V^T with U, V supported on a few rows and columns: Woodbury with K0's factor.
+struct LowRankUpdate {
+  std::shared_ptr<const NumericLu> base;
+  std::vector<int> rows, cols;                       // supports of U and V
+  Eigen::MatrixXd u, v;                              // |rows| x r, |cols| x r
+  Eigen::MatrixXd z;                                 // K0^-1 U (n x r)
+  Eigen::PartialPivLU<Eigen::MatrixXd> capacitance;  // I + V^T K0^-1 U
+  mutable Eigen::MatrixXd zt;  // K0^-T V (n x r), made on the first transposed solve
+
+  // K^-1 b (transposed: K^-T b) without refinement.
+  Eigen::VectorXd apply(const Eigen::VectorXd& b, bool transposed) const {
+    const Eigen::Index r = u.cols();
+    // K^T = K0^T + V U^T: the roles of U and V swap.
+    const std::vector<int>& right_support = transposed ? rows : cols;
+    const Eigen::MatrixXd& right = transposed ? u : v;
+    if (transposed && zt.cols() != r) {
+      zt.resize(b.size(), r);
+      for (Eigen::Index c = 0; c < r; ++c) {
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(b.size());
+        for (std::size_t a = 0; a < cols.size(); ++a) e[cols[a]] = v(a, c);
+        zt.col(c) = base->solve(UMFPACK_At, e, false);
+      }
+    }
+    const Eigen::VectorXd y = base->solve(transposed ? UMFPACK_At : UMFPACK_A, b, false);
+    Eigen::VectorXd t(r);
+    for (Eigen::Index c = 0; c < r; ++c) {
+      double sum = 0.0;
+      for (std::size_t a = 0; a < right_support.size(); ++a)
+        sum += right(a, c) * y[right_support[a]];
+      t[c] = sum;
+    }
+    const Eigen::VectorXd s =
+        transposed ? Eigen::VectorXd(capacitance.transpose().solve(t)) : capacitance.solve(t);
+    return y - (transposed ? zt : z) * s;
+  }
+};
+
+struct LuFactor::Impl {
+  LuReuse reuse;
+  std::shared_ptr<const NumericLu> full;  // the factorisation of k itself
+  std::unique_ptr<LowRankUpdate> update;  // or a low-rank update of a base factorisation
+  SparseMatrix k;                         // k, for the refinement of updated solves
+};
+
+namespace {
+
+// K = K0 + (K - K0) with the change confined to cols: a rank-revealing QR of the changed block
+// gives U V^T. Null when the change is too large for an update to pay.
+std::unique_ptr<LowRankUpdate> low_rank_update(const SparseMatrix& k,
+                                               std::shared_ptr<const NumericLu> base,
+                                               const std::vector<int>& cols, int max_rank) {
+  const int n = static_cast<int>(k.rows());
+  std::vector<int> row_slot(n, -1);
+  std::vector<int> rows;
+  std::vector<Eigen::Triplet<double>> change;  // (row, column slot, K - K0)
+  const SparseMatrix& k0 = base->k;
+  for (std::size_t c = 0; c < cols.size(); ++c) {
+    const int j = cols[c];
+    const auto add = [&](int row, double value) {
+      if (value == 0.0) return;
+      if (row_slot[row] < 0) {
+        row_slot[row] = static_cast<int>(rows.size());
+        rows.push_back(row);
+      }
+      change.emplace_back(row_slot[row], static_cast<int>(c), value);
+    };
+    SparseMatrix::InnerIterator a(k, j), a0(k0, j);
+    while (a || a0) {
+      if (a && a0 && a.row() == a0.row()) {
+        add(a.row(), a.value() - a0.value());
+        ++a;
+        ++a0;
+      } else if (!a0 || (a && a.row() < a0.row())) {
+        add(a.row(), a.value());
+        ++a;
+      } else {
+        add(a0.row(), -a0.value());
+        ++a0;
+      }
+    }
+  }
+  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()),
+                                                static_cast<Eigen::Index>(cols.size()));
+  for (const auto& t : change) block(t.row(), t.col()) += t.value();
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(block);
+  // Pivots below 1e-13 of the largest change are round-off of the assembly's sums.
+  qr.setThreshold(1e-13);
+  const Eigen::Index r = qr.rank();
+  if (r > max_rank) return nullptr;
+  auto up = std::make_unique<LowRankUpdate>();
+  up->base = std::move(base);
+  up->rows = std::move(rows);
+  up->cols = cols;
+  up->u = qr.householderQ() * Eigen::MatrixXd::Identity(block.rows(), r);
+  const Eigen::MatrixXd r_top = qr.matrixR().topRows(r).triangularView<Eigen::Upper>();
+  up->v = (r_top * qr.colsPermutation().transpose()).transpose();
+  up->z.resize(n, r);
+  for (Eigen::Index c = 0; c < r; ++c) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+    for (std::size_t a = 0; a < up->rows.size(); ++a) e[up->rows[a]] = up->u(a, c);
+    up->z.col(c) = up->base->solve(UMFPACK_A, e, false);
+  }
+  Eigen::MatrixXd cap = Eigen::MatrixXd::Identity(r, r);
+  for (std::size_t a = 0; a < up->cols.size(); ++a)
+    cap += up->v.row(a).transpose() * up->z.row(up->cols[a]);
+  up->capacitance.compute(cap);
+  return up;
+}
+
+}  // namespace
+
+namespace {
+// glibc serves UMFPACK's large blocks by mmap and unmaps them on free, so every factorisation
+// page-faults its memory in afresh: 9 s of system and ~10 s of user CPU of 56 s for q1 at
+// N = 1400 (bench/README.md, "Static solver"). Keep freed memory in the heap instead
+// (process-wide, once; the peak footprint is unchanged). Allocation only: the same bits.
+void keep_freed_memory() {
+#ifdef __GLIBC__
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  });
+#endif
+}
+}  // namespace
+
+LuFactor::LuFactor() : LuFactor(default_lu_reuse()) {}
+LuFactor::LuFactor(const LuReuse& reuse) : impl_(std::make_unique<Impl>()) {
+  keep_freed_memory();
+  impl_->reuse = reuse;
+}
+LuFactor::~LuFactor() = default;
+
+bool LuFactor::factorize(const SparseMatrix& k) {
+  Impl& m = *impl_;
+  m.full.reset();
+  m.update.reset();
+  det_sign_ = 0;
+  log10_det_ = -INFINITY;
+  symbolic_reused_ = false;
+  if (k.rows() == 0) {
+    det_sign_ = 1;
+    log10_det_ = 0.0;
+    return true;
+  }
+  if (m.reuse.low_rank) {
+    SparseMatrix kc = k;
+    kc.makeCompressed();
+    // The recent factorisation from which k differs in the fewest columns.
+    std::shared_ptr<const NumericLu> best;
+    std::vector<int> best_cols, cols;
+    for (const auto& base : base_factors()) {
+      if (base->k.rows() != kc.rows()) continue;
+      const int limit = best ? static_cast<int>(best_cols.size()) : m.reuse.max_columns;
+      if (!changed_columns(kc, base->k, limit, cols)) continue;
+      if (!best || cols.size() < best_cols.size()) {
+        best = base;
+        best_cols = cols;
+      }
+    }
+    if (best && best_cols.empty()) {  // the same matrix
+      m.full = best;
+    } else if (best) {
+      m.update = low_rank_update(kc, best, best_cols, m.reuse.max_rank);
+      if (!m.update) ++lu_statistics().too_many;
+    } else if (!base_factors().empty()) {
+      ++lu_statistics().too_many;
+    }
+    if (m.full || m.update) {
+      symbolic_reused_ = true;
+      if (m.full) {
+        det_sign_ = m.full->sign;
+        log10_det_ = m.full->log10_det;
+        return true;
+      }
+      ++lu_statistics().low_rank;
+      lu_statistics().rank_sum += m.update->u.cols();
+      const Eigen::MatrixXd& lu = m.update->capacitance.matrixLU();
+      int sign = m.update->base->sign *
+                 static_cast<int>(m.update->capacitance.permutationP().determinant());
+      double log10_det = m.update->base->log10_det;
+      for (Eigen::Index i = 0; i < lu.rows(); ++i) {
+        if (lu(i, i) == 0.0 || !std::isfinite(lu(i, i))) return false;
+        if (lu(i, i) < 0.0) sign = -sign;
+        log10_det += std::log10(std::abs(lu(i, i)));
+      }
+      m.k = std::move(kc);
+      det_sign_ = sign;
+      log10_det_ = log10_det;
+      return true;
+    }
+  }
+  auto lu = std::make_shared<NumericLu>();
+  lu->k = k;
+  lu->k.makeCompressed();
+  if (!factorize_numeric(*lu, symbolic_reused_)) return false;
+  det_sign_ = lu->sign;
+  log10_det_ = lu->log10_det;
+  m.full = lu;
+  if (m.reuse.low_rank) remember_base(std::move(lu));
+  return true;
 }
 
 namespace {
-Eigen::VectorXd umfpack_solve(int sys, const SparseMatrix& k, void* numeric,
-                              const Eigen::VectorXd& b) {
-  if (!numeric) throw std::logic_error("LuFactor::solve without a successful factorisation");
-  Eigen::VectorXd x(b.size());
-  double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
-  umfpack_control(control);
-  const int status = umfpack_di_solve(sys, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(),
-                                      x.data(), b.data(), numeric, control, info);
-  if (status != UMFPACK_OK) throw std::runtime_error("UMFPACK solve failed");
-  return x;
+// x = K^-1 b with one step of iterative refinement against K itself.
+Eigen::VectorXd refined(const LowRankUpdate& up, const SparseMatrix& k, const Eigen::VectorXd& b,
+                        bool transposed) {
+  Eigen::VectorXd x = up.apply(b, transposed);
+  const Eigen::VectorXd r =
+      transposed ? Eigen::VectorXd(b - k.transpose() * x) : Eigen::VectorXd(b - k * x);
+  return x + up.apply(r, transposed);
 }
 }  // namespace
 
 Eigen::VectorXd LuFactor::solve(const Eigen::VectorXd& b) const {
   if (b.size() == 0) return b;
-  return umfpack_solve(UMFPACK_A, impl_->k, impl_->numeric, b);
+  if (impl_->update) return refined(*impl_->update, impl_->k, b, false);
+  if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
+  return impl_->full->solve(UMFPACK_A, b);
 }
 
 Eigen::VectorXd LuFactor::solve_transpose(const Eigen::VectorXd& b) const {
   if (b.size() == 0) return b;
-  return umfpack_solve(UMFPACK_At, impl_->k, impl_->numeric, b);
+  if (impl_->update) return refined(*impl_->update, impl_->k, b, true);
+  if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
+  return impl_->full->solve(UMFPACK_At, b);
 }
 
 Reduction make_reduction(const std::vector<char>& keep) {

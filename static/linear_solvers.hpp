@@ -6,6 +6,7 @@
 // - UMFPACK LU for the full unsymmetric operator with sliding contacts, with the sign of its
 //   determinant (STATIC.md §S3.1 first route, §S3.4 (b)).
 #include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -30,18 +31,45 @@ class SymmetricFactor {
   std::unique_ptr<Impl> impl_;
 };
 
+// How LuFactor may avoid a numeric factorisation (off by default: the results then differ from a
+// fresh LU in round-off, which moves q1 today, docs/static.md "Performance").
+struct LuReuse {
+  // A matrix that differs from a recent full factorisation K0 of this thread in a few columns
+  // (status changes of a few contacts inside a complementarity loop) is written K = K0 + U V^T
+  // (rank-revealing QR of the changed block) and solved by the Woodbury formula with K0's factor,
+  // plus one step of iterative refinement against K; det K = det K0 det(I + V^T K0^-1 U), so the
+  // determinant sign stays exact.
+  bool low_rank = false;
+  int max_columns = 96;  // changed columns beyond which K is factorised afresh
+  int max_rank = 40;     // rank of U V^T beyond which K is factorised afresh (r solves with K0)
+};
+// The reuse of a default-constructed LuFactor in this thread.
+LuReuse& default_lu_reuse();
+
+// Counters of this thread's LuFactor work (bench/static).
+struct LuStatistics {
+  long numeric = 0;   // full numeric factorisations
+  long symbolic = 0;  // symbolic analyses among them
+  long low_rank = 0;  // factorisations replaced by a low-rank update
+  long rank_sum = 0;  // sum of the ranks of those updates
+  long too_many = 0;  // updates refused (too many changed columns or too high a rank)
+};
+LuStatistics& lu_statistics();
+
 class LuFactor {
  public:
   LuFactor();
+  explicit LuFactor(const LuReuse& reuse);
   ~LuFactor();
   LuFactor(const LuFactor&) = delete;
   LuFactor& operator=(const LuFactor&) = delete;
 
   // Returns false when UMFPACK finds the matrix singular (or fails). The symbolic analysis
   // (ordering) of a recent factorisation in this thread is reused when k has exactly the same
-  // sparsity pattern; only the numeric factorisation is then redone.
+  // sparsity pattern; only the numeric factorisation is then redone. With LuReuse::low_rank, a
+  // low-rank update of a recent factorisation may replace the numeric factorisation.
   bool factorize(const SparseMatrix& k);
-  // Whether the last factorize reused a cached symbolic analysis.
+  // Whether the last factorize reused a cached symbolic analysis (or made none: low-rank update).
   bool symbolic_reused() const { return symbolic_reused_; }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::VectorXd solve_transpose(const Eigen::VectorXd& b) const;

@@ -1,8 +1,10 @@
 // Timing of the static solver (issue #5): one load step split into assembly, factorisation and
 // complementarity, and optionally the whole q1 run, on a shipped periodic sample tiled
 // nx x ny times. Not part of ctest.
-//   bench_static SAMPLE [nx ny] [steps] [q1|q1-fixed [CURVE.csv]]
-// q1-fixed: the same with SolverOptions::fixed_pattern (symbolic reuse across status changes).
+//   bench_static SAMPLE [nx ny] [steps] [q1[-fixed][-lowrank] [CURVE.csv]]
+// -fixed: with SolverOptions::fixed_pattern (symbolic reuse across status changes); -lowrank: with
+// LuReuse::low_rank (low-rank updates of a recent LU instead of refactorisations), for the whole
+// run (load steps and q1).
 // With CURVE.csv, the q1 run's curve (the columns of granstab q1 that do not depend on timing or
 // the Hill indicator) is written there, to compare solver changes.
 #include <chrono>
@@ -12,6 +14,7 @@
 #include <string>
 
 #include "common/io/configuration_file.hpp"
+#include "static/linear_solvers.hpp"
 #include "static/load_step.hpp"
 #include "static/q1.hpp"
 #include "tile.hpp"
@@ -20,13 +23,16 @@ using namespace granstab;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s SAMPLE [nx ny] [steps] [q1|q1-fixed [CURVE.csv]]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s SAMPLE [nx ny] [steps] [q1[-fixed][-lowrank] [CURVE.csv]]\n",
+                 argv[0]);
     return 2;
   }
   const int nx = argc > 3 ? std::atoi(argv[2]) : 1, ny = argc > 3 ? std::atoi(argv[3]) : 1;
   const int steps = argc > 4 ? std::atoi(argv[4]) : 10;
-  const bool fixed = argc > 5 && std::string(argv[5]) == "q1-fixed";
-  const bool q1 = argc > 5 && (std::string(argv[5]) == "q1" || fixed);
+  const std::string mode = argc > 5 ? argv[5] : "";
+  const bool q1 = mode.rfind("q1", 0) == 0;
+  const bool fixed = q1 && mode.find("-fixed") != std::string::npos;
+  statics::default_lu_reuse().low_rank = q1 && mode.find("-lowrank") != std::string::npos;
   const Configuration config = bench::tile(read_configuration(argv[1]), nx, ny);
   using Clock = std::chrono::steady_clock;
 
@@ -48,14 +54,16 @@ int main(int argc, char** argv) {
   std::printf("N = %zu, dofs = %d, contacts = %zu, prepare %.3f s\n", config.disks.size(),
               net.dofs.size, net.contacts.size(), t_prepare);
   if (done > 0)
-    std::printf("%d load steps of dq = 1e-3: %.4f s per step (assembly %.4f, factorisation %.4f, "
-                "complementarity loop %.4f incl. its assembly and factorisation, corrector %.4f); "
-                "per step %.2f LU factorisations (%.2f symbolic), %.2f status iterations, "
-                "%.2f Newton iterations\n",
-                done, t_steps / done, timings.assembly / done, timings.factorisation / done,
-                timings.complementarity / done, timings.corrector / done,
-                double(timings.factorisations) / done, double(timings.symbolic_analyses) / done,
-                double(timings.status_iterations) / done, double(timings.newton_iterations) / done);
+    std::printf(
+        "%d load steps of dq = 1e-3: %.4f s per step (assembly %.4f, factorisation %.4f, "
+        "complementarity loop %.4f incl. its assembly and factorisation, corrector %.4f); "
+        "per step %.2f LU factorisations (%.2f symbolic), %.2f status iterations, "
+        "%.2f Newton iterations\n",
+        done, t_steps / done, timings.assembly / done, timings.factorisation / done,
+        timings.complementarity / done, timings.corrector / done,
+        double(timings.factorisations) / done, double(timings.symbolic_analyses) / done,
+        double(timings.status_iterations) / done, double(timings.newton_iterations) / done);
+  statics::lu_statistics() = {};
   if (q1) {
     statics::Q1Options o;
     o.hill = false;
@@ -74,13 +82,20 @@ int main(int argc, char** argv) {
                      p.epsv, p.n_sliding, p.determinant_sign, p.new_contacts);
       std::fclose(f);
     }
-    std::printf("q1 = %.9f in [%.9f, %.9f] (%s), %d steps + %d rejected, %.2f s (assembly %.2f, "
-                "factorisation %.2f, complementarity loops %.2f, correctors %.2f); "
-                "%d LU factorisations (%d symbolic), %d status iterations, %d Newton iterations\n",
-                r.q1, r.q1_bracket[0], r.q1_bracket[1], statics::criterion_name(r.criterion),
-                r.steps, rejected, std::chrono::duration<double>(Clock::now() - t2).count(),
-                t.assembly, t.factorisation, t.complementarity, t.corrector, t.factorisations,
-                t.symbolic_analyses, t.status_iterations, t.newton_iterations);
+    std::printf(
+        "q1 = %.9f in [%.9f, %.9f] (%s), %d steps + %d rejected, %.2f s (assembly %.2f, "
+        "factorisation %.2f, complementarity loops %.2f, correctors %.2f); "
+        "%d LU factorisations (%d symbolic), %d status iterations, %d Newton iterations\n",
+        r.q1, r.q1_bracket[0], r.q1_bracket[1], statics::criterion_name(r.criterion), r.steps,
+        rejected, std::chrono::duration<double>(Clock::now() - t2).count(), t.assembly,
+        t.factorisation, t.complementarity, t.corrector, t.factorisations, t.symbolic_analyses,
+        t.status_iterations, t.newton_iterations);
+    const statics::LuStatistics& lu = statics::lu_statistics();
+    std::printf(
+        "LuFactor: %ld numeric factorisations (%ld symbolic analyses), %ld low-rank updates "
+        "(mean rank %.1f), %ld updates refused\n",
+        lu.numeric, lu.symbolic, lu.low_rank,
+        lu.low_rank > 0 ? double(lu.rank_sum) / lu.low_rank : 0.0, lu.too_many);
   }
   return 0;
 }
