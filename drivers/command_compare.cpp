@@ -60,6 +60,9 @@ void print_verdict(const crosscheck::CrosscheckResult& r, const std::filesystem:
   row("max |d eps2| / bound before it", "%.3g (%d states)",
       c.max_diff_over_bound_eps2_before_sliding, c.n_compared_before_sliding);
   row("mean dynamic eps2 step below q1", "%.3e", c.mean_dynamic_step_below_q1);
+  row("largest dynamic eps2 step below q1", "%.3e at q = %.6g (%.3g x mean)",
+      c.max_dynamic_step_below_q1, c.q_of_max_dynamic_step,
+      c.max_dynamic_step_below_q1 / c.mean_dynamic_step_below_q1);
   row("dynamic eps2 jump after q1", "%.3e at q = %.6g%s", c.dynamic_jump_after_q1, c.q_of_jump,
       c.jump_reached_equilibrium ? "" : " (no equilibrium)");
   row("seconds static / dynamic", "%.3g / %.3g", r.static_seconds, r.dynamic_seconds);

@@ -84,8 +84,13 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
     }
     if (!p.reached) break;
     if (d > 0) {
-      step_sum += p.eps2 - dynamic_curve[d - 1].eps2;
+      const double step = p.eps2 - dynamic_curve[d - 1].eps2;
+      step_sum += step;
       ++step_count;
+      if (!(step <= out.max_dynamic_step_below_q1)) {  // also replaces the initial NaN
+        out.max_dynamic_step_below_q1 = step;
+        out.q_of_max_dynamic_step = p.q_target;
+      }
     }
     if (p.q_target <= 0.5 * dq) continue;  // the common start: both strains are 0 by definition
     // Static state at the same load, or the pair of states around it.
@@ -442,6 +447,8 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"jump_reached_equilibrium\": " << (c.jump_reached_equilibrium ? "true" : "false")
     << ",\n"
     << "  \"mean_dynamic_step_below_q1\": " << json_number(c.mean_dynamic_step_below_q1) << ",\n"
+    << "  \"max_dynamic_step_below_q1\": " << json_number(c.max_dynamic_step_below_q1) << ",\n"
+    << "  \"q_of_max_dynamic_step\": " << json_number(c.q_of_max_dynamic_step) << ",\n"
     << "  \"static_seconds\": " << json_number(r.static_seconds) << ",\n"
     << "  \"dynamic_seconds\": " << json_number(r.dynamic_seconds) << ",\n"
     << "  \"rigid_seconds\": " << json_number(r.rigid_seconds) << "\n"

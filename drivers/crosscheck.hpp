@@ -97,6 +97,11 @@ struct Comparison {
   double q_of_jump = std::numeric_limits<double>::quiet_NaN();
   bool jump_reached_equilibrium = false;
   double mean_dynamic_step_below_q1 = std::numeric_limits<double>::quiet_NaN();
+  // The largest dynamic increment below q1 and its q (k dq): a rearrangement of the dynamic run
+  // that the static path did not meet, or met within one dq of q1, so that the jump past q1 is
+  // ordinary (issue #6: mu = 0.15, dq = 1e-3, 32 times the mean at q = 0.283 < q1 = 0.28339).
+  double max_dynamic_step_below_q1 = std::numeric_limits<double>::quiet_NaN();
+  double q_of_max_dynamic_step = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Strain uncertainty that the SPEC §3.1 tolerances leave in an equilibrium state (docs/user-guide.md,
