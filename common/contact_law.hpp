@@ -14,11 +14,11 @@
 namespace granstab {
 
 struct ContactFrame {
-  double lx, ly;  // branch vector (disk-wall: from the centre to the foot on the wall, l = d n)
-  double d;       // |l|
-  double nx, ny;  // unit normal, from i to j
-  double tx, ty;  // unit tangent, n rotated +90 degrees
-  double h;       // normal deflection (overlap); contact iff h > 0
+  double lx, ly;    // branch vector (disk-wall: from the centre to the foot on the wall, l = d n)
+  double d;         // |l|
+  double nx, ny;    // unit normal, from i to j
+  double tx, ty;    // unit tangent, n rotated +90 degrees
+  double h;         // normal deflection (overlap); contact iff h > 0
   double a_i, a_j;  // lever arms from each centre to the contact point
 };
 
@@ -45,10 +45,26 @@ inline ContactFrame disk_disk_frame(double lx, double ly, double r_i, double r_j
 inline ContactFrame disk_wall_frame(double x, double y, double r, Wall wall, const Cell& cell) {
   ContactFrame f;
   switch (wall) {
-    case wall_left:   f.nx = -1.0; f.ny = 0.0;  f.d = x; break;
-    case wall_right:  f.nx = 1.0;  f.ny = 0.0;  f.d = cell.length[0] - x; break;
-    case wall_bottom: f.nx = 0.0;  f.ny = -1.0; f.d = y; break;
-    case wall_top:    f.nx = 0.0;  f.ny = 1.0;  f.d = cell.length[1] - y; break;
+    case wall_left:
+      f.nx = -1.0;
+      f.ny = 0.0;
+      f.d = x;
+      break;
+    case wall_right:
+      f.nx = 1.0;
+      f.ny = 0.0;
+      f.d = cell.length[0] - x;
+      break;
+    case wall_bottom:
+      f.nx = 0.0;
+      f.ny = -1.0;
+      f.d = y;
+      break;
+    case wall_top:
+      f.nx = 0.0;
+      f.ny = 1.0;
+      f.d = cell.length[1] - y;
+      break;
   }
   f.lx = f.d * f.nx;
   f.ly = f.d * f.ny;

@@ -9,7 +9,12 @@
 namespace granstab {
 
 // slide_positive: F_T = +mu F_N; slide_negative: F_T = -mu F_N (F_T along t, force of i on j).
-enum class ContactStatus : std::uint8_t { stick = 0, slide_positive = 1, slide_negative = 2, open = 3 };
+enum class ContactStatus : std::uint8_t {
+  stick = 0,
+  slide_positive = 1,
+  slide_negative = 2,
+  open = 3
+};
 
 struct Contacts {
   std::vector<std::int32_t> i;       // first disk
@@ -21,15 +26,29 @@ struct Contacts {
   std::size_t size() const { return i.size(); }
   bool empty() const { return i.empty(); }
   void clear() {
-    i.clear(); j.clear(); k1.clear(); k2.clear(); delta_t.clear(); status.clear();
+    i.clear();
+    j.clear();
+    k1.clear();
+    k2.clear();
+    delta_t.clear();
+    status.clear();
   }
   void reserve(std::size_t n) {
-    i.reserve(n); j.reserve(n); k1.reserve(n); k2.reserve(n); delta_t.reserve(n); status.reserve(n);
+    i.reserve(n);
+    j.reserve(n);
+    k1.reserve(n);
+    k2.reserve(n);
+    delta_t.reserve(n);
+    status.reserve(n);
   }
   std::size_t add(int ci, int cj, int ck1, int ck2, double dt = 0.0,
                   ContactStatus st = ContactStatus::stick) {
-    i.push_back(ci); j.push_back(cj); k1.push_back(ck1); k2.push_back(ck2);
-    delta_t.push_back(dt); status.push_back(st);
+    i.push_back(ci);
+    j.push_back(cj);
+    k1.push_back(ck1);
+    k2.push_back(ck2);
+    delta_t.push_back(dt);
+    status.push_back(st);
     return size() - 1;
   }
 };

@@ -10,7 +10,8 @@ ContactFrame contact_frame(const Configuration& config, std::size_t c) {
   const Disks& d = config.disks;
   const Contacts& k = config.contacts;
   const int i = k.i[c], j = k.j[c];
-  if (is_wall(j)) return disk_wall_frame(d.x[i], d.y[i], d.radius[i], static_cast<Wall>(j), config.cell);
+  if (is_wall(j))
+    return disk_wall_frame(d.x[i], d.y[i], d.radius[i], static_cast<Wall>(j), config.cell);
   const double lx = d.x[j] + k.k1[c] * config.cell.length[0] - d.x[i];
   const double ly = d.y[j] + k.k2[c] * config.cell.length[1] - d.y[i];
   return disk_disk_frame(lx, ly, d.radius[i], d.radius[j]);
@@ -36,7 +37,8 @@ std::vector<ContactLoad> contact_loads(const Configuration& config) {
 NetForces net_forces(const Configuration& config, const std::vector<ContactLoad>& loads) {
   const std::size_t n = config.disks.size();
   const Contacts& k = config.contacts;
-  NetForces net{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)};
+  NetForces net{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0),
+                std::vector<double>(n, 0.0)};
   for (std::size_t c = 0; c < loads.size(); ++c) {
     const ContactLoad& l = loads[c];
     if (!l.carrying) continue;
@@ -121,7 +123,8 @@ StressTensor stress_tensor(const Configuration& config, const std::vector<Contac
   return s;
 }
 
-std::array<double, 4> wall_forces(const Configuration& config, const std::vector<ContactLoad>& loads) {
+std::array<double, 4> wall_forces(const Configuration& config,
+                                  const std::vector<ContactLoad>& loads) {
   std::array<double, 4> force{};
   const Contacts& k = config.contacts;
   for (std::size_t c = 0; c < loads.size(); ++c)

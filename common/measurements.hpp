@@ -45,7 +45,8 @@ StressTensor stress_tensor(const Configuration& config, const std::vector<Contac
 // Walls: the total normal force the disks exert on each wall, indexed left, right, bottom, top
 // (-j - 1 for the Wall value j), positive when pushing. SPEC §2's second stress measure:
 // at equilibrium sigma_11 = F_right / L2 = F_left / L2 and sigma_22 = F_top / L1 = F_bottom / L1.
-std::array<double, 4> wall_forces(const Configuration& config, const std::vector<ContactLoad>& loads);
+std::array<double, 4> wall_forces(const Configuration& config,
+                                  const std::vector<ContactLoad>& loads);
 
 // The stress component a that the stage controls: the Cauchy sigma_aa, or for the nominal measure
 // the force on the side normal to a divided by that side's reference length.
@@ -66,13 +67,13 @@ struct Measurements {
   // Force-carrying contacts of the non-rattler network: disk-disk and disk-wall.
   std::size_t n_network_disk_disk = 0;
   std::size_t n_network_wall = 0;
-  double x0 = 0.0;  // rattler fraction
-  double z = 0.0;   // (2 N_dd + N_wall) / N' (a wall contact counts once, for its disk)
+  double x0 = 0.0;   // rattler fraction
+  double z = 0.0;    // (2 N_dd + N_wall) / N' (a wall contact counts once, for its disk)
   double x_s = 0.0;  // sliding fraction of force-carrying contacts
 
-  double e_c = 0.0;  // mean kinetic energy per disk, fluctuating translation + rotation
-  double f_2 = 0.0;  // rms net force over non-rattler disks
-  double torque_2 = 0.0;  // rms net torque over non-rattler disks
+  double e_c = 0.0;             // mean kinetic energy per disk, fluctuating translation + rotation
+  double f_2 = 0.0;             // rms net force over non-rattler disks
+  double torque_2 = 0.0;        // rms net torque over non-rattler disks
   double max_net_force = 0.0;   // over non-rattler disks
   double max_net_torque = 0.0;  // over non-rattler disks
   std::size_t max_force_disk = 0, max_torque_disk = 0;

@@ -47,10 +47,10 @@ void PairSearch::find(const double* x, const double* y, const double* radius, st
   for (int a = 0; a < 2; ++a) {
     const double length = cell.length[a];
     if (periodic && length <= 2.0 * reach) {
-      throw std::invalid_argument("pair search: periodic cell length L" + std::to_string(a + 1) +
-                                  " = " + std::to_string(length) +
-                                  " must exceed twice the search reach 2 R_max + margin = " +
-                                  std::to_string(reach));
+      throw std::invalid_argument(
+          "pair search: periodic cell length L" + std::to_string(a + 1) + " = " +
+          std::to_string(length) +
+          " must exceed twice the search reach 2 R_max + margin = " + std::to_string(reach));
     }
     nb[a] = std::max(1, static_cast<int>(std::floor(length / reach)));
   }
@@ -60,15 +60,16 @@ void PairSearch::find(const double* x, const double* y, const double* radius, st
   disk_cell_.resize(n);
   cell_start_.assign(n_cells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const int c = cell_index(y[i], cell.length[1], nb[1]) * nb[0] +
-                  cell_index(x[i], cell.length[0], nb[0]);
+    const int c =
+        cell_index(y[i], cell.length[1], nb[1]) * nb[0] + cell_index(x[i], cell.length[0], nb[0]);
     disk_cell_[i] = c;
     ++cell_start_[c + 1];
   }
   for (std::size_t c = 0; c < n_cells; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_disks_.resize(n);
   cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) cell_disks_[cell_fill_[disk_cell_[i]]++] = static_cast<int>(i);
+  for (std::size_t i = 0; i < n; ++i)
+    cell_disks_[cell_fill_[disk_cell_[i]]++] = static_cast<int>(i);
 
   std::vector<Partner>& partners = partners_;
   const double l1 = cell.length[0], l2 = cell.length[1];

@@ -16,14 +16,19 @@ namespace granstab {
 struct PairList {
   std::vector<std::int32_t> i, j, k1, k2;
   std::size_t size() const { return i.size(); }
-  void clear() { i.clear(); j.clear(); k1.clear(); k2.clear(); }
+  void clear() {
+    i.clear();
+    j.clear();
+    k1.clear();
+    k2.clear();
+  }
 };
 
 class PairSearch {
  public:
   // Pairs sorted by (i, j). Reuses its buffers: no allocation once they are large enough.
-  void find(const double* x, const double* y, const double* radius, std::size_t n,
-            const Cell& cell, double margin, PairList& out);
+  void find(const double* x, const double* y, const double* radius, std::size_t n, const Cell& cell,
+            double margin, PairList& out);
 
  private:
   struct Partner {

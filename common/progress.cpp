@@ -23,8 +23,12 @@ std::string format_duration(double seconds) {
 }
 
 Progress::Progress(std::string label, double total, bool enabled, double interval_seconds)
-    : label_(std::move(label)), total_(total), enabled_(enabled), interval_(interval_seconds),
-      start_(Clock::now()), last_(start_) {}
+    : label_(std::move(label)),
+      total_(total),
+      enabled_(enabled),
+      interval_(interval_seconds),
+      start_(Clock::now()),
+      last_(start_) {}
 
 double Progress::elapsed_seconds() const {
   return std::chrono::duration<double>(Clock::now() - start_).count();
@@ -37,11 +41,11 @@ std::string Progress::format(std::string_view label, double done, double total, 
   line += ": ";
   if (total > 0.0) {
     const double fraction = std::min(1.0, std::max(0.0, done / total));
-    std::snprintf(buf, sizeof buf, "%5.1f%% (%.6g / %.6g)  elapsed %s  ETA %s", 100.0 * fraction,
-                  done, total, format_duration(elapsed).c_str(),
-                  // Linear extrapolation of the rate so far.
-                  fraction > 0.0 ? format_duration(elapsed * (1.0 - fraction) / fraction).c_str()
-                                 : "?");
+    std::snprintf(
+        buf, sizeof buf, "%5.1f%% (%.6g / %.6g)  elapsed %s  ETA %s", 100.0 * fraction, done, total,
+        format_duration(elapsed).c_str(),
+        // Linear extrapolation of the rate so far.
+        fraction > 0.0 ? format_duration(elapsed * (1.0 - fraction) / fraction).c_str() : "?");
   } else {
     std::snprintf(buf, sizeof buf, "%.6g  elapsed %s", done, format_duration(elapsed).c_str());
   }
@@ -54,8 +58,8 @@ std::string Progress::format(std::string_view label, double done, double total, 
 }
 
 std::string Progress::format_estimated(std::string_view label, double done, double elapsed,
-                                       std::optional<double> seconds_left,
-                                       std::string_view basis, std::string_view detail) {
+                                       std::optional<double> seconds_left, std::string_view basis,
+                                       std::string_view detail) {
   char buf[200];
   std::snprintf(buf, sizeof buf, "%.6g  elapsed %s  ETA %s%s (estimate: %.*s)", done,
                 format_duration(elapsed).c_str(), seconds_left ? "~" : "",

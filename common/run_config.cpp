@@ -183,8 +183,10 @@ struct RunConfig::Impl {
     return overridden.contains(key) ? "command line (--set " + std::string(key) + "=...)" : source;
   }
 
-  [[noreturn]] void fail(std::string_view key, const toml::node& node, const std::string& what) const {
-    throw std::invalid_argument(origin(key) + ": " + std::string(key) + " = " + show(node) + ": " + what);
+  [[noreturn]] void fail(std::string_view key, const toml::node& node,
+                         const std::string& what) const {
+    throw std::invalid_argument(origin(key) + ": " + std::string(key) + " = " + show(node) + ": " +
+                                what);
   }
 
   // The node at a dotted key, or nullptr; marks the key as read.
@@ -211,7 +213,8 @@ struct RunConfig::Impl {
 
   void apply_override(const std::string& assignment) {
     const auto eq = assignment.find('=');
-    const std::string key = eq == std::string::npos ? std::string{} : trim(assignment.substr(0, eq));
+    const std::string key =
+        eq == std::string::npos ? std::string{} : trim(assignment.substr(0, eq));
     if (key.empty())
       throw std::invalid_argument("command line: '" + assignment + "': overrides read key=value");
     const std::string text = trim(std::string_view(assignment).substr(eq + 1));
@@ -244,7 +247,8 @@ struct RunConfig::Impl {
   void collect_unread(const toml::table& table, const std::string& prefix,
                       std::vector<std::string>& unread) const {
     for (const auto& [k, node] : table) {
-      const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+      const std::string key =
+          prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
       if (read.contains(key)) continue;
       const auto* sub = node.as_table();
       if (sub && !sub->empty())
@@ -336,7 +340,8 @@ std::string RunConfig::choice(std::string_view key, const std::string& fallback,
   std::string list;
   for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
   const toml::node* node = impl_->lookup(key);
-  if (!node) throw std::logic_error("RunConfig::choice: default of " + std::string(key) + " not allowed");
+  if (!node)
+    throw std::logic_error("RunConfig::choice: default of " + std::string(key) + " not allowed");
   impl_->fail(key, *node, "must be one of " + list);
 }
 

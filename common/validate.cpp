@@ -24,9 +24,11 @@ void validate(const Material& m) {
 void validate(const Cell& c) {
   for (int a = 0; a < 2; ++a) {
     const std::string ax = std::to_string(a + 1);
-    require(std::isfinite(c.length[a]) && c.length[a] > 0.0, "cell.L" + ax, "must be finite and > 0");
+    require(std::isfinite(c.length[a]) && c.length[a] > 0.0, "cell.L" + ax,
+            "must be finite and > 0");
     require(std::isfinite(c.length_rate[a]), "cell.L" + ax + "_rate", "must be finite");
-    require(std::isfinite(c.mass[a]) && c.mass[a] > 0.0, "cell.mass" + ax, "must be finite and > 0");
+    require(std::isfinite(c.mass[a]) && c.mass[a] > 0.0, "cell.mass" + ax,
+            "must be finite and > 0");
   }
 }
 

@@ -74,10 +74,12 @@ BiaxialSettings read_settings(const protocols::Invocation& invocation) {
                   : StressMeasure::cauchy;
   s.engine = protocols::read_engine_options(rc);
   s.csv = protocols::required_path(rc, "output.csv");
-  s.summary = rc.path("output.summary").value_or(std::filesystem::path(s.csv).replace_extension(".json"));
+  s.summary =
+      rc.path("output.summary").value_or(std::filesystem::path(s.csv).replace_extension(".json"));
   s.final_sample = rc.path("output.sample");
   s.save_every = rc.number("output.save_every", 0.0, 0.0, 100.0);
-  s.save_prefix = rc.path("output.save_prefix").value_or(std::filesystem::path(s.csv).replace_extension(""));
+  s.save_prefix =
+      rc.path("output.save_prefix").value_or(std::filesystem::path(s.csv).replace_extension(""));
   s.snapshots = protocols::read_snapshot_settings(rc);
   s.guard = protocols::read_guard_settings(
       rc, std::filesystem::path(s.csv).replace_extension(".checkpoint"));
@@ -130,8 +132,8 @@ void run_biaxial(const protocols::Invocation& invocation, bool quiet,
 
   std::vector<std::string> columns = protocols::state_columns();
   if (!s.strain_rate) {
-    for (const char* c : {"q_target", "increment_steps", "reached", "stress_error_1",
-                          "stress_error_2"}) {
+    for (const char* c :
+         {"q_target", "increment_steps", "reached", "stress_error_1", "stress_error_2"}) {
       columns.emplace_back(c);
     }
   }
@@ -207,8 +209,8 @@ void run_biaxial(const protocols::Invocation& invocation, bool quiet,
       return true;
     };
     if (!checkpoint) record(engine, state);  // a resumed CSV has the first row already
-    const auto result = protocols::run_strain_rate(engine, s.src, s.epsilon_2_max, pressure,
-                                                   state, record, {}, control);
+    const auto result = protocols::run_strain_rate(engine, s.src, s.epsilon_2_max, pressure, state,
+                                                   record, {}, control);
     stop_reason = result.stopped ? "stopped" : "epsilon_2_max";
     wall_seconds = wall_before + progress.elapsed_seconds();
     progress.finish();
@@ -223,9 +225,9 @@ void run_biaxial(const protocols::Invocation& invocation, bool quiet,
                                     const protocols::StressStepRecord& r) {
       const Measurements m = measure(st);
       std::vector<double> row = protocols::state_row(st, m);
-      row.insert(row.end(), {r.q_target, static_cast<double>(r.steps),
-                             r.equilibrium.reached ? 1.0 : 0.0, r.equilibrium.report.stress_error[0],
-                             r.equilibrium.report.stress_error[1]});
+      row.insert(row.end(),
+                 {r.q_target, static_cast<double>(r.steps), r.equilibrium.reached ? 1.0 : 0.0,
+                  r.equilibrium.report.stress_error[0], r.equilibrium.report.stress_error[1]});
       csv.row(row);
       if (!r.equilibrium.reached) return;
       largest_x_s = std::max(largest_x_s, m.x_s);
@@ -245,9 +247,8 @@ void run_biaxial(const protocols::Invocation& invocation, bool quiet,
       progress.update(e.stage().sigma_ext[1] / pressure - 1.0, detail);
       return true;
     };
-    const auto result =
-        protocols::run_stress_steps(engine, s.sic, pressure, state, on_equilibrium, on_check,
-                                    control);
+    const auto result = protocols::run_stress_steps(engine, s.sic, pressure, state, on_equilibrium,
+                                                    on_check, control);
     stop_reason = result.stop_reason;
     wall_seconds = wall_before + progress.elapsed_seconds();
     progress.finish();
@@ -281,8 +282,9 @@ void run_biaxial(const protocols::Invocation& invocation, bool quiet,
 void add_biaxial_command(CLI::App& app) {
   auto options = std::make_shared<BiaxialOptions>();
   auto* cmd = app.add_subcommand(
-      "biaxial", "Biaxial compression at sigma_1 = P: strain-rate controlled (SRC) or by stress "
-                 "increments with equilibrium after each (SIC) (SPEC §3.3)");
+      "biaxial",
+      "Biaxial compression at sigma_1 = P: strain-rate controlled (SRC) or by stress "
+      "increments with equilibrium after each (SIC) (SPEC §3.3)");
   cmd->add_option("CONFIG", options->settings, "settings (TOML, docs/protocols.md)")->required();
   cmd->add_option("--set", options->overrides, "override a setting, key=value");
   cmd->add_flag("--quiet", options->quiet, "no progress on stderr");

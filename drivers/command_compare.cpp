@@ -70,8 +70,7 @@ void print_verdict(const crosscheck::CrosscheckResult& r, const std::filesystem:
   const bool agree_before =
       c.n_compared_before_sliding > 0 && c.max_diff_over_bound_eps2_before_sliding <= 1.0;
   std::printf("verdict: %s\n",
-              c.n_steps_compared == 0
-                  ? "nothing to compare (no dynamic equilibrium below q1)"
+              c.n_steps_compared == 0 ? "nothing to compare (no dynamic equilibrium below q1)"
               : agree ? "static and dynamic agree below q1 within the SPEC 3.1 tolerances"
               : agree_before
                   ? "static and dynamic agree within the SPEC 3.1 tolerances until the first "

@@ -67,7 +67,8 @@ CreepSettings read_settings(const protocols::Invocation& invocation) {
   s.creep.equilibration = protocols::read_equilibration(rc);
   s.engine = protocols::read_engine_options(rc);
   s.csv = protocols::required_path(rc, "output.csv");
-  s.summary = rc.path("output.summary").value_or(std::filesystem::path(s.csv).replace_extension(".json"));
+  s.summary =
+      rc.path("output.summary").value_or(std::filesystem::path(s.csv).replace_extension(".json"));
   s.final_sample = rc.path("output.sample");
   s.hold_sample = rc.path("output.hold_sample");
   s.guard = protocols::read_guard_settings(
@@ -190,8 +191,8 @@ void run_creep(const protocols::Invocation& invocation, bool quiet,
   const auto on_check = [&](const Engine& e, const Configuration& st, const EquilibriumReport& r) {
     record(st);
     char detail[128];
-    std::snprintf(detail, sizeof detail, "hold q %.4f  epsilon_2 %.5f  max force %.3g",
-                  q_hold, protocols::axial_strain(e), r.max_net_force);
+    std::snprintf(detail, sizeof detail, "hold q %.4f  epsilon_2 %.5f  max force %.3g", q_hold,
+                  protocols::axial_strain(e), r.max_net_force);
     progress.update(static_cast<double>(e.step_count()), detail);
     return true;
   };
@@ -229,8 +230,8 @@ void run_creep(const protocols::Invocation& invocation, bool quiet,
       .add("reached_equilibrium", creep.equilibrium.reached)
       .add("hold_steps", creep.equilibrium.steps)
       .add("hold_time", static_cast<double>(creep.equilibrium.steps) * engine.dt())
-      .add("equilibrium", protocols::equilibrium_json(creep.equilibrium.report,
-                                                      s.creep.equilibration.tolerances))
+      .add("equilibrium",
+           protocols::equilibrium_json(creep.equilibrium.report, s.creep.equilibration.tolerances))
       .add("resumed", s.resume && creep.equilibrium.reached)
       .add("steps", engine.step_count() - s.sample.step)
       .add("wall_seconds", wall_seconds)
@@ -238,18 +239,19 @@ void run_creep(const protocols::Invocation& invocation, bool quiet,
   protocols::write_json(s.summary, summary);
   guard.finish();
   if (!creep.equilibrium.reached) {
-    throw std::runtime_error(std::string("creep: no equilibrium at q = ") +
-                             std::to_string(q_hold) +
-                             (creep.equilibrium.aborted ? " (the strain guard fired: the sample flows)"
-                                                        : " within equilibrium.max_steps"));
+    throw std::runtime_error(std::string("creep: no equilibrium at q = ") + std::to_string(q_hold) +
+                             (creep.equilibrium.aborted
+                                  ? " (the strain guard fired: the sample flows)"
+                                  : " within equilibrium.max_steps"));
   }
 }
 
 void add_creep_command(CLI::App& app) {
   auto options = std::make_shared<CreepCommandOptions>();
-  auto* cmd = app.add_subcommand(
-      "creep", "SRC test switched to stress control at a chosen strain or q, held to "
-               "equilibrium; records the creep strain (SPEC §3.4)");
+  auto* cmd =
+      app.add_subcommand("creep",
+                         "SRC test switched to stress control at a chosen strain or q, held to "
+                         "equilibrium; records the creep strain (SPEC §3.4)");
   cmd->add_option("CONFIG", options->settings, "settings (TOML, docs/protocols.md)")->required();
   cmd->add_option("--set", options->overrides, "override a setting, key=value");
   cmd->add_flag("--quiet", options->quiet, "no progress on stderr");

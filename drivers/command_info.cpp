@@ -26,9 +26,12 @@ struct InfoOptions {
 
 std::string_view control_name(LengthControl c) {
   switch (c) {
-    case LengthControl::stress: return "stress";
-    case LengthControl::strain_rate: return "strain_rate";
-    case LengthControl::fixed: return "fixed";
+    case LengthControl::stress:
+      return "stress";
+    case LengthControl::strain_rate:
+      return "strain_rate";
+    case LengthControl::fixed:
+      return "fixed";
   }
   return "?";
 }
@@ -67,15 +70,14 @@ void print_text(const InfoOptions& o, const Configuration& c, const Measurements
       << "X_s              " << text(m.x_s) << "\n"
       << "sigma            " << text(m.sigma[0][0]) << " " << text(m.sigma[0][1]) << " / "
       << text(m.sigma[1][0]) << " " << text(m.sigma[1][1]) << "  (s11 s12 / s21 s22)\n"
-      << wall_stress_text(c)
-      << "q                " << text(m.q) << "\n"
+      << wall_stress_text(c) << "q                " << text(m.q) << "\n"
       << "eps1 eps2 epsv   " << text(m.epsilon_1) << " " << text(m.epsilon_2) << " "
       << text(m.epsilon_v) << "\n"
       << "e_c              " << text(m.e_c) << "\n"
       << "f_2              " << text(m.f_2) << "  (torque: " << text(m.torque_2) << ")\n"
       << "equilibrium (SPEC 3.1)\n"
-      << "  max net force  " << text(r.max_net_force) << "  < " << text(o.tolerances.force)
-      << "  " << pass(r.force_ok) << "\n"
+      << "  max net force  " << text(r.max_net_force) << "  < " << text(o.tolerances.force) << "  "
+      << pass(r.force_ok) << "\n"
       << "  max net torque " << text(r.max_net_torque) << "  < " << text(o.tolerances.torque)
       << "  " << pass(r.torque_ok) << "\n";
   for (int a = 0; a < 2; ++a) {
@@ -130,9 +132,8 @@ void print_json(const InfoOptions& o, const Configuration& c, const Measurements
       << "    \"tolerance_stress\": " << json(o.tolerances.stress) << ",\n"
       << "    \"max_net_force\": " << json(r.max_net_force) << ",\n"
       << "    \"max_net_torque\": " << json(r.max_net_torque) << ",\n"
-      << "    \"stress_error\": ["
-      << (r.stress_checked[0] ? json(r.stress_error[0]) : "null") << ", "
-      << (r.stress_checked[1] ? json(r.stress_error[1]) : "null") << "],\n"
+      << "    \"stress_error\": [" << (r.stress_checked[0] ? json(r.stress_error[0]) : "null")
+      << ", " << (r.stress_checked[1] ? json(r.stress_error[1]) : "null") << "],\n"
       << "    \"force_ok\": " << json(r.force_ok) << ",\n"
       << "    \"torque_ok\": " << json(r.torque_ok) << ",\n"
       << "    \"stress_ok\": " << json(r.stress_ok) << ",\n"
@@ -159,9 +160,11 @@ void run_info(const InfoOptions& o) {
 void add_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
   auto* cmd = app.add_subcommand(
-      "info", "Print N, cell, Phi, z, x0, X_s, stress tensor, q, strains, e_c, f_2 (SPEC §2) and "
-              "the equilibrium residuals (SPEC §3.1) of a configuration file");
-  cmd->add_option("SAMPLE", options->sample, "configuration file (docs/file-format.md)")->required();
+      "info",
+      "Print N, cell, Phi, z, x0, X_s, stress tensor, q, strains, e_c, f_2 (SPEC §2) and "
+      "the equilibrium residuals (SPEC §3.1) of a configuration file");
+  cmd->add_option("SAMPLE", options->sample, "configuration file (docs/file-format.md)")
+      ->required();
   cmd->add_flag("--json", options->json, "print the same quantities as JSON");
   cmd->add_option("--force-tolerance", options->tolerances.force,
                   "largest net force on a non-rattler disk, units aP")

@@ -54,14 +54,16 @@ PerturbSettings read_settings(const protocols::Invocation& invocation) {
   if (rc.contains("perturb.q")) s.q = rc.number("perturb.q", 0.0, -0.99, 100.0);
   s.seed = static_cast<std::uint64_t>(rc.integer("perturb.seed", 1, 0, INT64_MAX));
   s.perturbation.f0 = rc.number("perturb.f0", 1e-3, 1e-12, 10.0);
-  s.perturbation.repetitions = static_cast<int>(rc.integer("perturb.repetitions", 10, 1, 1'000'000));
+  s.perturbation.repetitions =
+      static_cast<int>(rc.integer("perturb.repetitions", 10, 1, 1'000'000));
   s.perturbation.release = rc.boolean("perturb.release", true);
   s.perturbation.failure_delta_epsilon_2 =
       rc.number("perturb.failure_delta_epsilon_2", 0.1, 1e-9, 0.9);
   s.perturbation.equilibration = protocols::read_equilibration(rc);
   s.engine = protocols::read_engine_options(rc);
   s.csv = protocols::required_path(rc, "output.csv");
-  s.summary = rc.path("output.summary").value_or(std::filesystem::path(s.csv).replace_extension(".json"));
+  s.summary =
+      rc.path("output.summary").value_or(std::filesystem::path(s.csv).replace_extension(".json"));
   s.final_sample = rc.path("output.sample");
   s.guard = protocols::read_guard_settings(
       rc, std::filesystem::path(s.csv).replace_extension(".checkpoint"));
@@ -83,8 +85,8 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
   // The held stresses: sigma_1 = P and sigma_2 = P (1 + q), q given or the sample's own (its
   // prescribed q if both axes were stress-controlled, else its measured q).
   const Stage& st = s.sample.stage;
-  const bool stress_controlled = st.control[0] == LengthControl::stress &&
-                                 st.control[1] == LengthControl::stress;
+  const bool stress_controlled =
+      st.control[0] == LengthControl::stress && st.control[1] == LengthControl::stress;
   const double q = s.q.value_or(stress_controlled ? st.sigma_ext[1] / st.sigma_ext[0] - 1.0
                                                   : measure(s.sample).q);
   Engine engine(checkpoint ? checkpoint->configuration("engine") : s.sample, s.engine);
@@ -130,8 +132,8 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
       return std::abs(protocols::axial_strain(e) - epsilon_2_start) <=
              s.perturbation.failure_delta_epsilon_2;
     };
-    initial = protocols::run_to_equilibrium(engine, s.perturbation.equilibration, state, flows,
-                                            {}, {}, control);
+    initial = protocols::run_to_equilibrium(engine, s.perturbation.equilibration, state, flows, {},
+                                            {}, control);
     if (!initial.reached) {
       guard.finish();
       throw std::runtime_error(
@@ -147,13 +149,13 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
     draws = static_cast<int>(checkpoint->count("perturb.draws"));
     reached = static_cast<int>(checkpoint->count("perturb.reached"));
   }
-  csv.emplace(s.csv,
-              std::vector<std::string>{"draw", "epsilon_2_before", "epsilon_v_before",
-                                       "delta_epsilon_2", "delta_epsilon_v", "loaded_steps",
-                                       "loaded_reached", "delta_epsilon_2_released",
-                                       "delta_epsilon_v_released", "released_steps",
-                                       "released_reached", "q", "max_net_force"},
-              30.0);
+  csv.emplace(
+      s.csv,
+      std::vector<std::string>{"draw", "epsilon_2_before", "epsilon_v_before", "delta_epsilon_2",
+                               "delta_epsilon_v", "loaded_steps", "loaded_reached",
+                               "delta_epsilon_2_released", "delta_epsilon_v_released",
+                               "released_steps", "released_reached", "q", "max_net_force"},
+      30.0);
   if (checkpoint && !resume_initial) {
     protocols::restore_csv(*csv, checkpoint->count("output.csv.bytes"));
   }
@@ -164,9 +166,9 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
     const Measurements m = measure(now);
     csv->row({static_cast<double>(r.draw), r.epsilon_2_before, r.epsilon_v_before,
               r.delta_epsilon_2, r.delta_epsilon_v, static_cast<double>(r.loaded.steps),
-              r.loaded.reached ? 1.0 : 0.0, r.delta_epsilon_2_released,
-              r.delta_epsilon_v_released, static_cast<double>(r.released.steps),
-              r.released.reached ? 1.0 : 0.0, m.q, m.max_net_force});
+              r.loaded.reached ? 1.0 : 0.0, r.delta_epsilon_2_released, r.delta_epsilon_v_released,
+              static_cast<double>(r.released.steps), r.released.reached ? 1.0 : 0.0, m.q,
+              m.max_net_force});
     ++draws;
     reached += r.loaded.reached && (!s.perturbation.release || r.released.reached);
     flowed = flowed || r.loaded.aborted || r.released.aborted;
@@ -175,8 +177,7 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
     progress.update(r.draw, detail);
     return true;
   };
-  protocols::LoopControl draws_control{hooks, protocols::Cursor{},
-                                       checkpoint && !resume_initial};
+  protocols::LoopControl draws_control{hooks, protocols::Cursor{}, checkpoint && !resume_initial};
   if (draws_control.resume) draws_control.cursor = resume_cursor;
   protocols::run_perturbations(engine, s.perturbation, rng, state, on_record, {}, draws_control);
   const double wall_seconds = wall_before + progress.elapsed_seconds();
@@ -206,19 +207,20 @@ void run_perturb(const protocols::Invocation& invocation, bool quiet,
   protocols::write_json(s.summary, summary);
   guard.finish();
   if (reached < draws) {
-    throw std::runtime_error(
-        "perturb: draw " + std::to_string(draws) + " did not reach equilibrium" +
-        (flowed ? " (the strain guard fired: epsilon_2 moved by more than "
-                  "perturb.failure_delta_epsilon_2; the sample flows)"
-                : " within equilibrium.max_steps"));
+    throw std::runtime_error("perturb: draw " + std::to_string(draws) +
+                             " did not reach equilibrium" +
+                             (flowed ? " (the strain guard fired: epsilon_2 moved by more than "
+                                       "perturb.failure_delta_epsilon_2; the sample flows)"
+                                     : " within equilibrium.max_steps"));
   }
 }
 
 void add_perturb_command(CLI::App& app) {
   auto options = std::make_shared<PerturbCommandOptions>();
-  auto* cmd = app.add_subcommand(
-      "perturb", "Random constant forces on every disk of an equilibrium sample, new "
-                 "equilibrium, strain changes; repeated (SPEC §3.5)");
+  auto* cmd =
+      app.add_subcommand("perturb",
+                         "Random constant forces on every disk of an equilibrium sample, new "
+                         "equilibrium, strain changes; repeated (SPEC §3.5)");
   cmd->add_option("CONFIG", options->settings, "settings (TOML, docs/protocols.md)")->required();
   cmd->add_option("--set", options->overrides, "override a setting, key=value");
   cmd->add_flag("--quiet", options->quiet, "no progress on stderr");

@@ -64,8 +64,9 @@ void run_plot(const PlotOptions& o) {
 void add_plot_command(CLI::App& app) {
   auto o = std::make_shared<PlotOptions>();
   auto* cmd = app.add_subcommand(
-      "plot", "Draws the pictures of a `granstab compare` directory (PNG and SVG): curves with q1, "
-              "the sample at q1 with force chains, sliding contacts and the unstable mode");
+      "plot",
+      "Draws the pictures of a `granstab compare` directory (PNG and SVG): curves with q1, "
+      "the sample at q1 with force chains, sliding contacts and the unstable mode");
   cmd->add_option("DIR", o->dir, "output directory of granstab compare")->required();
   cmd->add_option("--python", o->python, "Python interpreter with matplotlib")
       ->capture_default_str();

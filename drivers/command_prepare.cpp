@@ -60,11 +60,11 @@ PrepareSettings read_settings(const protocols::Invocation& invocation) {
   s.compaction.equilibration = protocols::read_equilibration(rc);
   s.engine = protocols::read_engine_options(rc);
   s.sample = protocols::required_path(rc, "output.sample");
-  s.summary = rc.path("output.summary").value_or(
-      std::filesystem::path(s.sample).replace_extension(".json"));
+  s.summary = rc.path("output.summary")
+                  .value_or(std::filesystem::path(s.sample).replace_extension(".json"));
   s.csv = rc.path("output.csv");
-  s.record_interval = static_cast<std::uint64_t>(
-      rc.integer("output.record_interval", 10000, 1, INT64_MAX));
+  s.record_interval =
+      static_cast<std::uint64_t>(rc.integer("output.record_interval", 10000, 1, INT64_MAX));
   s.snapshots = protocols::read_snapshot_settings(rc);
   s.guard = protocols::read_guard_settings(
       rc, std::filesystem::path(s.sample).replace_extension(".checkpoint"));
@@ -113,8 +113,8 @@ void run_prepare(const protocols::Invocation& invocation, bool quiet,
   }
 
   const auto build = [&](const Engine& e, const protocols::Cursor& cursor) {
-    protocols::Checkpoint c = checkpoint_head(invocation, e, cursor, "none",
-                                              wall_before + progress.elapsed_seconds());
+    protocols::Checkpoint c =
+        checkpoint_head(invocation, e, cursor, "none", wall_before + progress.elapsed_seconds());
     c.set_number("prepare.gas_phi", gas_phi);
     if (csv) c.set_count("output.csv.bytes", csv->text().size());
     if (snapshots.next_step()) c.set_count("output.vtk.next", *snapshots.next_step());
@@ -145,11 +145,12 @@ void run_prepare(const protocols::Invocation& invocation, bool quiet,
     std::optional<double> seconds_left;
     const auto steps_left = decay.steps_left();
     if (steps_left && step > *first_step) {
-      seconds_left = *steps_left * progress.elapsed_seconds() /
-                     static_cast<double>(step - *first_step);
+      seconds_left =
+          *steps_left * progress.elapsed_seconds() / static_cast<double>(step - *first_step);
     }
     char detail[160];
-    std::snprintf(detail, sizeof detail, "Phi %.4f  max force %.3g  torque %.3g  stress err %.3g %.3g",
+    std::snprintf(detail, sizeof detail,
+                  "Phi %.4f  max force %.3g  torque %.3g  stress err %.3g %.3g",
                   solid_fraction(state), r.max_net_force, r.max_net_torque, r.stress_error[0],
                   r.stress_error[1]);
     progress.update_estimated(static_cast<double>(step), seconds_left, "residual decay", detail);
@@ -194,8 +195,8 @@ void run_prepare(const protocols::Invocation& invocation, bool quiet,
       .add("z", m.z)
       .add("x0", m.x0)
       .add("measurements", protocols::measurements_json(m))
-      .add("equilibrium", protocols::equilibrium_json(result.report,
-                                                      s.compaction.equilibration.tolerances));
+      .add("equilibrium",
+           protocols::equilibrium_json(result.report, s.compaction.equilibration.tolerances));
   protocols::write_json(s.summary, summary);
   guard.finish();
 

@@ -41,15 +41,16 @@ std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
     << "  \"sample\": " << json_string(o.sample) << ",\n"
     << "  \"control\": " << json_string(o.control) << ",\n"
     << "  \"q1\": " << json_number(r.q1) << ",\n"
-    << "  \"q1_bracket\": [" << json_number(r.q1_bracket[0]) << ", " << json_number(r.q1_bracket[1]) << "],\n"
+    << "  \"q1_bracket\": [" << json_number(r.q1_bracket[0]) << ", " << json_number(r.q1_bracket[1])
+    << "],\n"
     << "  \"criterion\": " << json_string(statics::criterion_name(r.criterion)) << ",\n"
     << "  \"detail\": " << json_string(r.detail) << ",\n"
     << "  \"n_sliding_at_q1\": " << r.sliding_at_q1.size() << ",\n"
     << "  \"sliding_contacts_at_q1\": [";
   for (std::size_t c = 0; c < r.sliding_at_q1.size(); ++c) {
     const statics::SlidingContact& k = r.sliding_at_q1[c];
-    s << (c ? ", " : "") << "{\"i\": " << k.i << ", \"j\": " << k.j << ", \"k\": [" << k.k1
-      << ", " << k.k2 << "], \"f_n\": " << json_number(k.f_n) << ", \"f_t\": " << json_number(k.f_t) << "}";
+    s << (c ? ", " : "") << "{\"i\": " << k.i << ", \"j\": " << k.j << ", \"k\": [" << k.k1 << ", "
+      << k.k2 << "], \"f_n\": " << json_number(k.f_n) << ", \"f_t\": " << json_number(k.f_t) << "}";
   }
   s << "],\n"
     // q_max of the frozen initial network (SPEC §4.5); null when unbounded or failed, see status.
@@ -58,12 +59,14 @@ std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
     << "  \"n_disks\": " << config.disks.size() << ",\n"
     << "  \"n_contacts\": " << config.contacts.size() << ",\n"
     << "  \"steps\": " << r.steps << ",\n"
-    << "  \"rejected_steps\": {" << [&] {
-         std::string list;
-         for (const auto& [reason, count] : r.rejected)
-           list += (list.empty() ? "" : ", ") + json_string(reason) + ": " + std::to_string(count);
-         return list;
-       }() << "},\n"
+    << "  \"rejected_steps\": {" <<
+      [&] {
+        std::string list;
+        for (const auto& [reason, count] : r.rejected)
+          list += (list.empty() ? "" : ", ") + json_string(reason) + ": " + std::to_string(count);
+        return list;
+      }()
+    << "},\n"
     << "  \"dq\": " << json_number(o.q1.dq) << ",\n"
     << "  \"dq_min\": " << json_number(o.q1.dq_min) << ",\n"
     << "  \"seconds_assembly\": " << json_number(r.timings.assembly) << ",\n"
@@ -102,9 +105,11 @@ void run_q1(Q1CommandOptions o) {
 void add_q1_command(CLI::App& app) {
   auto options = std::make_shared<Q1CommandOptions>();
   auto* cmd = app.add_subcommand(
-      "q1", "Static stepping (SPEC §4) of the biaxial test from a sample's equilibrium up to the "
-            "loss of stability q1; writes DIR/static_curve.csv, DIR/q1.json, DIR/unstable_mode.csv");
-  cmd->add_option("SAMPLE", options->sample, "configuration file (docs/file-format.md)")->required();
+      "q1",
+      "Static stepping (SPEC §4) of the biaxial test from a sample's equilibrium up to the "
+      "loss of stability q1; writes DIR/static_curve.csv, DIR/q1.json, DIR/unstable_mode.csv");
+  cmd->add_option("SAMPLE", options->sample, "configuration file (docs/file-format.md)")
+      ->required();
   cmd->add_option("--dq", options->q1.dq,
                   "load step: delta q (stress control) or delta epsilon_2 (strain control)")
       ->capture_default_str()
@@ -121,8 +126,9 @@ void add_q1_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--stop", options->q1.load_stop,
                   "stop once the load parameter (q, or epsilon_2) passes this value");
-  cmd->add_flag("!--no-hill", options->q1.hill, "skip the Hill indicator (smallest eigenvalue "
-                                                 "of the symmetric part) at every state");
+  cmd->add_flag("!--no-hill", options->q1.hill,
+                "skip the Hill indicator (smallest eigenvalue "
+                "of the symmetric part) at every state");
   cmd->callback([options] { run_q1(*options); });
 }
 

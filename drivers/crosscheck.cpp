@@ -61,9 +61,8 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
                           const EquilibriumTolerances& tolerances) {
   Comparison out;
   if (static_curve.empty() || dynamic_curve.empty()) return out;
-  const double dq = dynamic_curve.size() > 1
-                        ? dynamic_curve[1].q_target - dynamic_curve[0].q_target
-                        : 1.0;
+  const double dq =
+      dynamic_curve.size() > 1 ? dynamic_curve[1].q_target - dynamic_curve[0].q_target : 1.0;
   double step_sum = 0.0;
   int step_count = 0;
   for (const statics::CurvePoint& p : static_curve)
@@ -116,8 +115,8 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
     }
     const std::array<double, 2> s = static_compliance(static_curve, k);
     // d eps / d sigma_2 = (d eps / dq) / sigma_1 at fixed sigma_1.
-    m.bound_eps2 = eps2_uncertainty(s[0] / sigma1, s[1] / sigma1, sigma1, sigma1 * (1.0 + m.q),
-                                    tolerances);
+    m.bound_eps2 =
+        eps2_uncertainty(s[0] / sigma1, s[1] / sigma1, sigma1, sigma1 * (1.0 + m.q), tolerances);
     const double d2 = std::abs(m.eps2_dynamic - m.eps2_static);
     out.max_abs_diff_eps2 = std::max(out.max_abs_diff_eps2, d2);
     if (m.eps2_static != 0.0)
@@ -242,8 +241,7 @@ DynamicRun parse_dynamic_run_state(const std::string& text) {
 CrosscheckResult run_static_half(const Configuration& sample, const CrosscheckOptions& options) {
   if (!(options.dq > 0.0) || !std::isfinite(options.dq))
     throw std::invalid_argument("compare: --dq must be a finite number > 0");
-  if (!(options.q_max > 0.0))
-    throw std::invalid_argument("compare: --q-max must be > 0");
+  if (!(options.q_max > 0.0)) throw std::invalid_argument("compare: --q-max must be > 0");
   if (options.steps_after_q1 < 0)
     throw std::invalid_argument("compare: steps after q1 must be >= 0");
   if (options.dynamic_substeps < 1 || options.static_substeps < 1)
@@ -293,7 +291,6 @@ CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOpt
 
 // --- outputs --------------------------------------------------------------------------------
 
-
 std::string static_curve_csv(const statics::StabilityResult& r) {
   std::ostringstream s;
   s << "step,load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,hill,det_sign,newton_iterations,"
@@ -328,11 +325,10 @@ std::string matched_csv(const Comparison& c) {
   s << "q,epsilon_2_static,epsilon_2_dynamic,epsilon_v_static,epsilon_v_dynamic,epsilon_1_static,"
        "epsilon_1_dynamic,bound_epsilon_2,interpolated\n";
   for (const MatchedPoint& m : c.points)
-    s << json_number(m.q) << ',' << json_number(m.eps2_static) << ','
-      << json_number(m.eps2_dynamic) << ',' << json_number(m.epsv_static) << ','
-      << json_number(m.epsv_dynamic) << ',' << json_number(m.eps1_static) << ','
-      << json_number(m.eps1_dynamic) << ',' << json_number(m.bound_eps2) << ','
-      << (m.interpolated ? 1 : 0) << '\n';
+    s << json_number(m.q) << ',' << json_number(m.eps2_static) << ',' << json_number(m.eps2_dynamic)
+      << ',' << json_number(m.epsv_static) << ',' << json_number(m.epsv_dynamic) << ','
+      << json_number(m.eps1_static) << ',' << json_number(m.eps1_dynamic) << ','
+      << json_number(m.bound_eps2) << ',' << (m.interpolated ? 1 : 0) << '\n';
   return s.str();
 }
 

@@ -104,10 +104,11 @@ struct Comparison {
   double q_of_max_dynamic_step = std::numeric_limits<double>::quiet_NaN();
 };
 
-// Strain uncertainty that the SPEC §3.1 tolerances leave in an equilibrium state (docs/user-guide.md,
-// "How close must the curves be"): the controlled stresses may be off by tol_s sigma_a, and net
-// disk forces up to f_tol act like a stress error of order f_tol / a; through the macroscopic
-// compliance S (d eps / d sigma, from the static curve; S_21 = S_12 by reciprocity) this gives
+// Strain uncertainty that the SPEC §3.1 tolerances leave in an equilibrium state
+// (docs/user-guide.md, "How close must the curves be"): the controlled stresses may be off by tol_s
+// sigma_a, and net disk forces up to f_tol act like a stress error of order f_tol / a; through the
+// macroscopic compliance S (d eps / d sigma, from the static curve; S_21 = S_12 by reciprocity)
+// this gives
 //   bound_eps2 = (|S_21| sigma_1 + |S_22| sigma_2) tol_s + (|S_21| + |S_22|) f_tol / a.
 double eps2_uncertainty(double s21, double s22, double sigma1, double sigma2,
                         const EquilibriumTolerances& tolerances);

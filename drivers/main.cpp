@@ -8,8 +8,9 @@
 #include "resumable.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"granstab: quasistatic deformation of 2D granular packings, by molecular dynamics "
-               "and by contact-network stability analysis"};
+  CLI::App app{
+      "granstab: quasistatic deformation of 2D granular packings, by molecular dynamics "
+      "and by contact-network stability analysis"};
   app.require_subcommand(1);
   granstab::cli::add_version_command(app);
   granstab::cli::add_info_command(app);

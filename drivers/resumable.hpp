@@ -44,8 +44,7 @@ protocols::LoopHooks guard_hooks(protocols::RunGuard& guard, Build& build) {
 // The part of every checkpoint that is not the command's own: how the run was started, the
 // engine's state, the cursor, the input file's checksum and the wall time so far.
 inline protocols::Checkpoint checkpoint_head(const protocols::Invocation& invocation,
-                                             const Engine& engine,
-                                             const protocols::Cursor& cursor,
+                                             const Engine& engine, const protocols::Cursor& cursor,
                                              const std::string& input_checksum,
                                              double wall_seconds) {
   protocols::Checkpoint c;

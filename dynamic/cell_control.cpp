@@ -30,8 +30,8 @@ std::array<double, 2> length_acceleration(const CellState& cell, const Stage& st
   for (int a = 0; a < 2; ++a) {
     if (stage.control[a] != LengthControl::stress) continue;
     const int b = 1 - a;
-    const double side = stage.measure == StressMeasure::cauchy ? cell.length[b]
-                                                               : stage.reference_length[b];
+    const double side =
+        stage.measure == StressMeasure::cauchy ? cell.length[b] : stage.reference_length[b];
     acc[a] = (forces.disk_force[a] - stage.sigma_ext[a] * side) / cell.mass[a];
   }
   return acc;

@@ -27,8 +27,12 @@ void check_axis(int axis) {
 }  // namespace
 
 Engine::Engine(const Configuration& config, const EngineOptions& options)
-    : options_(options), material_(config.material), stage_(config.stage),
-      neighbours_(options.skin), time_(config.time), step_(config.step),
+    : options_(options),
+      material_(config.material),
+      stage_(config.stage),
+      neighbours_(options.skin),
+      time_(config.time),
+      step_(config.step),
       rng_state_(config.rng_state) {
   validate(config.material);
   validate(config.cell);
@@ -36,8 +40,8 @@ Engine::Engine(const Configuration& config, const EngineOptions& options)
   const std::size_t n = in.size();
   require(n >= 1, "configuration: no disks");
   for (auto* v : {&in.y, &in.radius, &in.mass, &in.inertia, &in.vx, &in.vy, &in.omega, &in.theta}) {
-    require(v->size() == n, "configuration.disks: all fields must have N = " +
-                                std::to_string(n) + " entries");
+    require(v->size() == n,
+            "configuration.disks: all fields must have N = " + std::to_string(n) + " entries");
   }
   require(std::isfinite(options.dt_fraction) && options.dt_fraction > 0.0,
           "engine options: dt_fraction must be > 0");
@@ -70,12 +74,12 @@ Engine::Engine(const Configuration& config, const EngineOptions& options)
     disks_.inv_inertia[i] = 1.0 / in.inertia[i];
     m_min = std::min(m_min, in.mass[i]);
     if (cell_.periodic()) {
-      disks_.x[i] = dynamic::wrap(disks_.x[i] - std::floor(disks_.x[i] / cell_.length[0]) *
-                                                    cell_.length[0],
-                                  cell_.length[0]);
-      disks_.y[i] = dynamic::wrap(disks_.y[i] - std::floor(disks_.y[i] / cell_.length[1]) *
-                                                    cell_.length[1],
-                                  cell_.length[1]);
+      disks_.x[i] =
+          dynamic::wrap(disks_.x[i] - std::floor(disks_.x[i] / cell_.length[0]) * cell_.length[0],
+                        cell_.length[0]);
+      disks_.y[i] =
+          dynamic::wrap(disks_.y[i] - std::floor(disks_.y[i] / cell_.length[1]) * cell_.length[1],
+                        cell_.length[1]);
     }
   }
   for (auto* v : {&disks_.vpx, &disks_.vpy, &disks_.fx, &disks_.fy, &disks_.torque, &disks_.fvx,
@@ -261,8 +265,8 @@ void Engine::set_material(const Material& material) {
     disks_.alpha_wall[i] = material_.damping_coefficient(disks_.mass[i], INFINITY);
   }
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    pairs_.alpha[p] = material_.damping_coefficient(disks_.mass[pairs_.i[p]],
-                                                    disks_.mass[pairs_.j[p]]);
+    pairs_.alpha[p] =
+        material_.damping_coefficient(disks_.mass[pairs_.i[p]], disks_.mass[pairs_.j[p]]);
   }
   if (new_time_scale) {
     const double m_min = *std::min_element(disks_.mass.begin(), disks_.mass.end());
@@ -340,8 +344,8 @@ double Engine::elastic_energy() const {
     const Wall walls[4] = {wall_left, wall_right, wall_bottom, wall_top};
     for (std::size_t i = 0; i < disks_.size(); ++i) {
       for (int w = 0; w < 4; ++w) {
-        const ContactFrame f = disk_wall_frame(disks_.x[i], disks_.y[i], disks_.radius[i],
-                                               walls[w], c);
+        const ContactFrame f =
+            disk_wall_frame(disks_.x[i], disks_.y[i], disks_.radius[i], walls[w], c);
         if (f.h > 0.0) {
           e += material_.k_n * f.h * f.h +
                material_.k_t * disks_.wall_delta_t[w][i] * disks_.wall_delta_t[w][i];
@@ -417,8 +421,8 @@ void Engine::export_to(Configuration& out) const {
     const Wall walls[4] = {wall_left, wall_right, wall_bottom, wall_top};
     for (std::size_t i = 0; i < n; ++i) {
       for (int w = 0; w < 4; ++w) {
-        const ContactFrame f = disk_wall_frame(disks_.x[i], disks_.y[i], disks_.radius[i],
-                                               walls[w], c);
+        const ContactFrame f =
+            disk_wall_frame(disks_.x[i], disks_.y[i], disks_.radius[i], walls[w], c);
         if (!(f.h > 0.0)) continue;
         const double dt = disks_.wall_delta_t[w][i];
         out.contacts.add(static_cast<int>(i), walls[w], 0, 0, dt,

@@ -104,8 +104,8 @@ class Engine {
   std::span<const double> vy() const { return disks_.vy; }
   std::span<const double> omega() const { return disks_.omega; }
   std::span<const double> radius() const { return disks_.radius; }
-  double kinetic_energy() const;  // translation (fluctuating velocities) + rotation
-  double elastic_energy() const;  // K_N h^2 / 2 + K_T delta_t^2 / 2 over all contacts
+  double kinetic_energy() const;       // translation (fluctuating velocities) + rotation
+  double elastic_energy() const;       // K_N h^2 / 2 + K_T delta_t^2 / 2 over all contacts
   double cell_kinetic_energy() const;  // sum_a M_a (dL_a/dt)^2 / 2
   std::size_t contact_count() const;   // disk-disk and disk-wall contacts with h > 0
   std::uint64_t neighbour_rebuilds() const { return neighbours_.rebuild_count(); }

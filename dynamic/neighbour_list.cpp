@@ -32,8 +32,7 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
   const std::size_t n = disks.size();
   r_max_ = 0.0;
   for (std::size_t i = 0; i < n; ++i) r_max_ = std::max(r_max_, disks.radius[i]);
-  search_.find(disks.x.data(), disks.y.data(), disks.radius.data(), n, cell.cell(), skin_,
-               found_);
+  search_.find(disks.x.data(), disks.y.data(), disks.radius.data(), n, cell.cell(), skin_, found_);
 
   // Keep the old list to carry delta_t of pairs present in both (both sorted by (i, j)).
   old_i_.swap(pairs.i);

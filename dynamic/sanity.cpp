@@ -26,8 +26,8 @@ std::optional<std::string> find_blow_up(const Engine& engine, const Configuratio
   const auto length = engine.length(), rate = engine.length_rate();
   for (int a = 0; a < 2; ++a) {
     if (!std::isfinite(length[a]) || !(length[a] > 0.0) || !std::isfinite(rate[a])) {
-      return at_step(engine) + "cell axis " + std::to_string(a + 1) + ": L = " +
-             number(length[a]) + ", dL/dt = " + number(rate[a]) + " (not finite or not > 0)";
+      return at_step(engine) + "cell axis " + std::to_string(a + 1) + ": L = " + number(length[a]) +
+             ", dL/dt = " + number(rate[a]) + " (not finite or not > 0)";
     }
   }
   const auto x = engine.x(), y = engine.y(), vx = engine.vx(), vy = engine.vy();
@@ -68,13 +68,12 @@ std::optional<std::string> find_blow_up(const Engine& engine, const Configuratio
   }
   const double k_n = exported.material.k_n;
   for (std::size_t i = 0; i < n; ++i) {
-    const double e = 0.5 * (d.mass[i] * (vx[i] * vx[i] + vy[i] * vy[i]) +
-                            d.inertia[i] * omega[i] * omega[i]);
+    const double e =
+        0.5 * (d.mass[i] * (vx[i] * vx[i] + vy[i] * vy[i]) + d.inertia[i] * omega[i] * omega[i]);
     const double scale = 0.5 * k_n * d.radius[i] * d.radius[i];
     if (!(e <= limits.max_kinetic_energy * scale)) {
       return at_step(engine) + "disk " + std::to_string(i) + ": kinetic energy " + number(e) +
-             " = " + number(e / scale) +
-             " K_N r^2 / 2 (limit sanity.max_kinetic_energy = " +
+             " = " + number(e / scale) + " K_N r^2 / 2 (limit sanity.max_kinetic_energy = " +
              number(limits.max_kinetic_energy) +
              "); the time step is probably too large (engine.dt_fraction)";
     }

@@ -86,7 +86,7 @@ struct CellState {
 // Sums over the contacts of a fixed block of disks; blocks are added in index order, so every
 // reduction is independent of the thread count.
 struct BlockSums {
-  std::array<double, 4> sigma{};        // sum f_a l_b (a, b) -> 2 a + b, elastic + frictional
+  std::array<double, 4> sigma{};          // sum f_a l_b (a, b) -> 2 a + b, elastic + frictional
   std::array<double, 2> sigma_viscous{};  // diagonal of the same for the viscous forces
   std::array<double, 2> wall_force{};     // elastic + frictional force of the disks on the
                                           // right (x) and top (y) walls

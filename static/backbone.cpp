@@ -4,7 +4,8 @@
 
 namespace granstab::statics {
 
-std::vector<char> force_carrying_disks(const Network& net, const std::vector<ContactState>& states) {
+std::vector<char> force_carrying_disks(const Network& net,
+                                       const std::vector<ContactState>& states) {
   const std::size_t n = net.n_disks();
   std::vector<char> carrying(n, 1);
   const bool remove = net.constraints.remove_rattlers;

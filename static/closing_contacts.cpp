@@ -57,8 +57,8 @@ std::vector<NewContact> closing_contacts(const Network& net, const Eigen::Vector
     // Cells too small for the cell list (lattice tests): every pair at its minimum image.
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t j = i + 1; j < n; ++j)
-        consider(static_cast<int>(i), static_cast<int>(j),
-                 minimum_image_shift(x[j] - x[i], l1), minimum_image_shift(y[j] - y[i], l2));
+        consider(static_cast<int>(i), static_cast<int>(j), minimum_image_shift(x[j] - x[i], l1),
+                 minimum_image_shift(y[j] - y[i], l2));
     return found;
   }
   // The common cell-list search on wrapped positions; image shifts are converted back to the

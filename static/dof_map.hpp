@@ -17,9 +17,9 @@ struct DofMap {
 };
 
 struct DofOptions {
-  std::vector<char> active;          // per disk: carries dofs (not a rattler)
-  int pinned_translation = -1;       // disk whose u is removed, or -1
-  std::vector<char> rotation_fixed;  // per disk (or empty): theta is not a dof
+  std::vector<char> active;              // per disk: carries dofs (not a rattler)
+  int pinned_translation = -1;           // disk whose u is removed, or -1
+  std::vector<char> rotation_fixed;      // per disk (or empty): theta is not a dof
   std::array<bool, 2> cell{true, true};  // e_a is a dof (stress-controlled direction)
 };
 

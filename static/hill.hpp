@@ -28,8 +28,8 @@ int negative_eigenvalue_count_symmetric(const SparseMatrix& s);
 // (det K keeps its sign then): the real negative eigenvalues of K.
 struct NegativeEigenvalues {
   bool ok = false;
-  int symmetric = -1;  // negative eigenvalues of (K + K^T)/2 (LDL^T inertia)
-  int real = -1;       // real negative eigenvalues of K
+  int symmetric = -1;                  // negative eigenvalues of (K + K^T)/2 (LDL^T inertia)
+  int real = -1;                       // real negative eigenvalues of K
   std::vector<Eigen::VectorXd> modes;  // their (real) eigenvectors, unit length
 };
 // If (K + K^T)/2 has no negative eigenvalue, neither has K (x^T K x = x^T S x > 0 for every real

@@ -17,9 +17,12 @@ std::array<double, 2> reference_branch(const Network& net, std::size_t c) {
   if (!is_wall(j))
     return {net.x[j] + k.k1[c] * net.length[0] - xi, net.y[j] + k.k2[c] * net.length[1] - yi};
   switch (static_cast<Wall>(j)) {
-    case wall_right: return {net.length[0] - xi, -yi};
-    case wall_top: return {-xi, net.length[1] - yi};
-    default: return {-xi, -yi};  // the walls through the origin never move
+    case wall_right:
+      return {net.length[0] - xi, -yi};
+    case wall_top:
+      return {-xi, net.length[1] - yi};
+    default:
+      return {-xi, -yi};  // the walls through the origin never move
   }
 }
 
@@ -159,9 +162,8 @@ Eigen::VectorXd external_forces(const Network& net, const Eigen::VectorXd& dq) {
   for (int a = 0; a < 2; ++a) {
     if (m.e[a] < 0) continue;
     const int b = 1 - a;
-    const double other = load.measure == StressMeasure::cauchy
-                             ? net.length[b] * (1.0 + e[b])
-                             : load.nominal_length[b];
+    const double other = load.measure == StressMeasure::cauchy ? net.length[b] * (1.0 + e[b])
+                                                               : load.nominal_length[b];
     f[m.e[a]] -= load.sigma[a] * net.length[a] * other;
   }
   if (!load.dead.empty()) {

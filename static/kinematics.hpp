@@ -20,18 +20,18 @@ using LocalRow = std::array<double, n_local>;
 
 struct ContactRows {
   std::array<int, n_local> dof;  // index in q, -1 when not a degree of freedom
-  LocalRow dx, dy;   // D: dl = D dq (exact: l is linear in q)
-  LocalRow bn;       // B_N(q): d(distance) = B_N dq, dh = -B_N dq
-  LocalRow bt;       // B_T(q): tangential relative displacement rate
-  LocalRow bt0;      // B_T(q0): the start-of-step tangential measure
+  LocalRow dx, dy;               // D: dl = D dq (exact: l is linear in q)
+  LocalRow bn;                   // B_N(q): d(distance) = B_N dq, dh = -B_N dq
+  LocalRow bt;                   // B_T(q): tangential relative displacement rate
+  LocalRow bt0;                  // B_T(q0): the start-of-step tangential measure
 };
 
 struct ContactState {
-  ContactFrame frame;   // at q
-  ContactFrame frame0;  // at the start of the step
-  double f_n = 0.0;     // elastic normal force K_N max(h, 0)
-  double f_t = 0.0;     // tangential force of i on j
-  double delta_t = 0.0; // tangential elastic displacement after the Coulomb return
+  ContactFrame frame;    // at q
+  ContactFrame frame0;   // at the start of the step
+  double f_n = 0.0;      // elastic normal force K_N max(h, 0)
+  double f_t = 0.0;      // tangential force of i on j
+  double delta_t = 0.0;  // tangential elastic displacement after the Coulomb return
   ContactStatus status = ContactStatus::open;  // from the trial force at q
   bool wall = false;
   double mu = 0.0;

@@ -34,8 +34,7 @@ bool solve_factored(const SparseMatrix& k, const std::vector<char>& kept, const 
                     double tolerance) {
   const Reduction r = make_reduction(kept);
   x = expand(lu.solve(reduce(b, r)), r, static_cast<int>(k.rows()));
-  if (!check_pinned || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
-    return true;
+  if (!check_pinned || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows()) return true;
   const Eigen::VectorXd misfit = k * x - b;
   const Eigen::VectorXd size = k.cwiseAbs() * x.cwiseAbs() + b.cwiseAbs();
   double worst = 0.0;
@@ -197,8 +196,7 @@ ContactStatus next_status(const ContactState& s, bool critical, ContactStatus cu
                           double relative) {
   const double d_fn = -k_n * rate[0], f_n = s.f_n + d_fn;
   const double tau_n = tau + relative * s.f_n;
-  if (f_n < -tau_n || (f_n <= tau_n && current == ContactStatus::open))
-    return ContactStatus::open;
+  if (f_n < -tau_n || (f_n <= tau_n && current == ContactStatus::open)) return ContactStatus::open;
   if (!s.frictional) return ContactStatus::slide_positive;
   const double d_ft = -k_t * rate[1];
   if (!slides(current)) {
@@ -296,8 +294,7 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
   m.diagonal().array() += k_t;
   // O(1) entries: lambda in units of q_scale / K_T.
   const double q_scale = std::max(q.cwiseAbs().maxCoeff(), 1e-300);
-  const LcpResult lcp =
-      solve_lcp(m / k_t, q / q_scale, options.decision_tolerance, max_enumerated);
+  const LcpResult lcp = solve_lcp(m / k_t, q / q_scale, options.decision_tolerance, max_enumerated);
   out.how = lcp.how + " over " + std::to_string(n) + " contacts";
   out.outcome = lcp.outcome;
   if (lcp.outcome == LcpResult::Outcome::no_solution && pinned_touched) {
@@ -566,12 +563,11 @@ NewtonResult prepare(Network& net, const SolverOptions& options) {
   NewtonResult polish =
       newton_equilibrium(net, zero, &frozen, residual_scale(net, states), options);
   if (!polish.converged)
-    throw std::runtime_error("static preparation: the equilibrium polish did not converge "
-                             "(relative residual " +
-                             std::to_string(polish.residual_history.empty()
-                                                ? -1.0
-                                                : polish.residual_history.back()) +
-                             "); is the configuration an equilibrium state?");
+    throw std::runtime_error(
+        "static preparation: the equilibrium polish did not converge "
+        "(relative residual " +
+        std::to_string(polish.residual_history.empty() ? -1.0 : polish.residual_history.back()) +
+        "); is the configuration an equilibrium state?");
   advance(net, polish.dq, polish.states);
   rebuild_degrees_of_freedom(net);
   // An input far from equilibrium can leave a frozen-stick contact outside the cone; the exact
@@ -585,8 +581,8 @@ NewtonResult prepare(Network& net, const SolverOptions& options) {
       throw std::runtime_error("static preparation: no equilibrium with the exact contact law");
     advance(net, exact.dq, exact.states);
     rebuild_degrees_of_freedom(net);
-    polish.residual_history.insert(polish.residual_history.end(),
-                                   exact.residual_history.begin(), exact.residual_history.end());
+    polish.residual_history.insert(polish.residual_history.end(), exact.residual_history.begin(),
+                                   exact.residual_history.end());
   }
   return polish;
 }

@@ -13,7 +13,7 @@
 namespace granstab::statics {
 
 struct SolverOptions {
-  double tolerance = 1e-10;             // relative residual of the corrector and the polish
+  double tolerance = 1e-10;  // relative residual of the corrector and the polish
   // Below this relative residual a Newton iteration that can no longer decrease |R| is taken as
   // converged: round-off of K_N h at large kappa (reported in docs/static.md).
   double stagnation_tolerance = 1e-8;
@@ -81,10 +81,10 @@ struct PredictorResult {
   std::vector<ContactStatus> statuses;  // consistent statuses of the increment
   int determinant_sign = 0;             // of K(statuses) on the kept dofs
   int iterations = 0;
-  SparseMatrix tangent;                 // K(statuses) on all dofs
-  std::vector<char> kept;               // dofs kept (floppy rotations pinned)
-  std::vector<char> ever_sliding;       // per contact: sliding in some iterate of the loop
-  std::shared_ptr<LuFactor> factor;     // LU of K(statuses) on the kept dofs (when ok)
+  SparseMatrix tangent;              // K(statuses) on all dofs
+  std::vector<char> kept;            // dofs kept (floppy rotations pinned)
+  std::vector<char> ever_sliding;    // per contact: sliding in some iterate of the loop
+  std::shared_ptr<LuFactor> factor;  // LU of K(statuses) on the kept dofs (when ok)
 };
 
 // Piecewise-linear complementarity problem at the start of the step, by iterating statuses and
@@ -95,8 +95,8 @@ struct PredictorResult {
 // With rhs given, it replaces R(0) (the stability check solves for a pure load increment); with
 // warm given (a loop run at the same state), the loop starts from its statuses instead of
 // classify_contacts, and reuses its factor while the statuses agree.
-PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings = nullptr,
-                        const Eigen::VectorXd* rhs = nullptr,
+PredictorResult predict(const Network& net, const SolverOptions& options,
+                        Timings* timings = nullptr, const Eigen::VectorXd* rhs = nullptr,
                         const PredictorResult* warm = nullptr);
 
 struct StepResult {

@@ -46,9 +46,9 @@ struct Constraints {
 struct Network {
   Boundary boundary = Boundary::periodic;
   std::array<double, 2> length{1.0, 1.0};  // L_a0, cell lengths at the start of the step
-  std::vector<double> x, y, radius;         // start-of-step centres (not re-wrapped in a run)
-  std::vector<double> theta;                // accumulated rotations
-  Contacts contacts;  // delta_t: start-of-step tangential elastic displacement
+  std::vector<double> x, y, radius;        // start-of-step centres (not re-wrapped in a run)
+  std::vector<double> theta;               // accumulated rotations
+  Contacts contacts;                       // delta_t: start-of-step tangential elastic displacement
   Material material;
   Loading loading;
   Constraints constraints;

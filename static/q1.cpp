@@ -12,9 +12,12 @@ namespace granstab::statics {
 
 const char* criterion_name(Criterion c) {
   switch (c) {
-    case Criterion::none: return "none";
-    case Criterion::existence: return "existence";
-    case Criterion::bifurcation: return "bifurcation";
+    case Criterion::none:
+      return "none";
+    case Criterion::existence:
+      return "existence";
+    case Criterion::bifurcation:
+      return "bifurcation";
   }
   return "none";
 }
@@ -196,7 +199,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   std::string detail;
   if (!stable(check, negative)) {
     failure = check.ok ? Criterion::bifurcation : Criterion::existence;
-    detail = !check.ok                      ? "predictor at the start: " + check.failure
+    detail = !check.ok                     ? "predictor at the start: " + check.failure
              : check.determinant_sign <= 0 ? std::string("det K <= 0 at the start")
                                            : even_crossing_detail(negative, "at the start");
     result.q1 = lambda;

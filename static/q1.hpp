@@ -46,7 +46,7 @@ struct CurvePoint {
   double eps1 = 0.0, eps2 = 0.0, epsv = 0.0;
   int n_sliding = 0;
   double hill = std::numeric_limits<double>::quiet_NaN();
-  int determinant_sign = 0;  // of K on the consistent statuses of the next increment
+  int determinant_sign = 0;      // of K on the consistent statuses of the next increment
   int negative_eigenvalues = 0;  // real negative eigenvalues of that K (-1: not counted)
   int newton_iterations = 0;
   int new_contacts = 0;
@@ -59,10 +59,10 @@ struct SlidingContact {
 
 struct StabilityResult {
   std::vector<CurvePoint> curve;
-  double q1 = 0.0;                    // last stable value of the load parameter
-  std::array<double, 2> q1_bracket{}; // the loss of stability lies in [lo, hi]
+  double q1 = 0.0;                     // last stable value of the load parameter
+  std::array<double, 2> q1_bracket{};  // the loss of stability lies in [lo, hi]
   Criterion criterion = Criterion::none;
-  std::string detail;                 // the failure behind the criterion
+  std::string detail;  // the failure behind the criterion
   std::vector<SlidingContact> sliding_at_q1;
   // Unstable mode at q1 (per disk ux, uy, theta; then e1, e2): the eigenvector of K(active set)
   // with the smallest |eigenvalue|, by inverse iteration; near the bracket it is the null vector.

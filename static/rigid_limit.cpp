@@ -32,12 +32,12 @@ namespace {
 // The network: frames of all contacts, and which contacts and disks enter the LP.
 
 struct FrozenNetwork {
-  std::vector<ContactFrame> frame;  // per contact of config.contacts
-  std::vector<double> mu;           // friction of each contact (mu or mu_wall)
-  std::vector<char> active;         // contact enters the LP
-  std::vector<char> disk_active;    // disk has balance rows
-  std::vector<char> pinned;         // disk whose force rows are dropped (translation of a
-                                    // wall-free periodic component: those rows are dependent)
+  std::vector<ContactFrame> frame;   // per contact of config.contacts
+  std::vector<double> mu;            // friction of each contact (mu or mu_wall)
+  std::vector<char> active;          // contact enters the LP
+  std::vector<char> disk_active;     // disk has balance rows
+  std::vector<char> pinned;          // disk whose force rows are dropped (translation of a
+                                     // wall-free periodic component: those rows are dependent)
   std::vector<char> torque_dropped;  // disk whose torque row is dependent (a gear mode)
 };
 
@@ -116,7 +116,9 @@ void remove_weak_disks(const Configuration& config, FrozenNetwork& net) {
 void classify_components(const Configuration& config, FrozenNetwork& net) {
   const Contacts& c = config.contacts;
   const std::size_t n = config.disks.size();
-  struct Link { int other, contact, sx, sy; };  // image shift of `other` seen from this disk
+  struct Link {
+    int other, contact, sx, sy;
+  };  // image shift of `other` seen from this disk
   std::vector<std::vector<Link>> links(n);
   std::vector<char> on_wall(n, 0);
   for (std::size_t k = 0; k < c.size(); ++k) {
@@ -173,7 +175,10 @@ void classify_components(const Configuration& config, FrozenNetwork& net) {
 void drop_gear_torque_rows(const Configuration& config, FrozenNetwork& net) {
   const Contacts& c = config.contacts;
   const std::size_t n = config.disks.size();
-  struct Link { int other, contact; bool from_i; };
+  struct Link {
+    int other, contact;
+    bool from_i;
+  };
   std::vector<std::vector<Link>> links(n);
   std::vector<char> blocked(n, 0), frictional(n, 0);
   for (std::size_t k = 0; k < c.size(); ++k) {
@@ -353,8 +358,7 @@ LinearProgram assemble(const Configuration& config, const FrozenNetwork& net) {
 
 class RigidLimitTnlp : public Ipopt::TNLP {
  public:
-  RigidLimitTnlp(const LinearProgram& lp, double objective_sign)
-      : lp_(lp), sign_(objective_sign) {}
+  RigidLimitTnlp(const LinearProgram& lp, double objective_sign) : lp_(lp), sign_(objective_sign) {}
 
   std::vector<double> x, multipliers;
   double s1 = std::numeric_limits<double>::quiet_NaN();
@@ -430,25 +434,44 @@ class RigidLimitTnlp : public Ipopt::TNLP {
 
 std::string status_name(Ipopt::ApplicationReturnStatus s) {
   switch (s) {
-    case Ipopt::Solve_Succeeded: return "Solve_Succeeded";
-    case Ipopt::Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
-    case Ipopt::Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
-    case Ipopt::Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
-    case Ipopt::Diverging_Iterates: return "Diverging_Iterates";
-    case Ipopt::User_Requested_Stop: return "User_Requested_Stop";
-    case Ipopt::Feasible_Point_Found: return "Feasible_Point_Found";
-    case Ipopt::Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
-    case Ipopt::Restoration_Failed: return "Restoration_Failed";
-    case Ipopt::Error_In_Step_Computation: return "Error_In_Step_Computation";
-    case Ipopt::Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
-    case Ipopt::Not_Enough_Degrees_Of_Freedom: return "Not_Enough_Degrees_Of_Freedom";
-    case Ipopt::Invalid_Problem_Definition: return "Invalid_Problem_Definition";
-    case Ipopt::Invalid_Option: return "Invalid_Option";
-    case Ipopt::Invalid_Number_Detected: return "Invalid_Number_Detected";
-    case Ipopt::Unrecoverable_Exception: return "Unrecoverable_Exception";
-    case Ipopt::NonIpopt_Exception_Thrown: return "NonIpopt_Exception_Thrown";
-    case Ipopt::Insufficient_Memory: return "Insufficient_Memory";
-    case Ipopt::Internal_Error: return "Internal_Error";
+    case Ipopt::Solve_Succeeded:
+      return "Solve_Succeeded";
+    case Ipopt::Solved_To_Acceptable_Level:
+      return "Solved_To_Acceptable_Level";
+    case Ipopt::Infeasible_Problem_Detected:
+      return "Infeasible_Problem_Detected";
+    case Ipopt::Search_Direction_Becomes_Too_Small:
+      return "Search_Direction_Becomes_Too_Small";
+    case Ipopt::Diverging_Iterates:
+      return "Diverging_Iterates";
+    case Ipopt::User_Requested_Stop:
+      return "User_Requested_Stop";
+    case Ipopt::Feasible_Point_Found:
+      return "Feasible_Point_Found";
+    case Ipopt::Maximum_Iterations_Exceeded:
+      return "Maximum_Iterations_Exceeded";
+    case Ipopt::Restoration_Failed:
+      return "Restoration_Failed";
+    case Ipopt::Error_In_Step_Computation:
+      return "Error_In_Step_Computation";
+    case Ipopt::Maximum_CpuTime_Exceeded:
+      return "Maximum_CpuTime_Exceeded";
+    case Ipopt::Not_Enough_Degrees_Of_Freedom:
+      return "Not_Enough_Degrees_Of_Freedom";
+    case Ipopt::Invalid_Problem_Definition:
+      return "Invalid_Problem_Definition";
+    case Ipopt::Invalid_Option:
+      return "Invalid_Option";
+    case Ipopt::Invalid_Number_Detected:
+      return "Invalid_Number_Detected";
+    case Ipopt::Unrecoverable_Exception:
+      return "Unrecoverable_Exception";
+    case Ipopt::NonIpopt_Exception_Thrown:
+      return "NonIpopt_Exception_Thrown";
+    case Ipopt::Insufficient_Memory:
+      return "Insufficient_Memory";
+    case Ipopt::Internal_Error:
+      return "Internal_Error";
   }
   return "unknown status " + std::to_string(static_cast<int>(s));
 }
@@ -526,10 +549,18 @@ void fill_mechanism(const Configuration& config, const LinearProgram& lp,
   for (int r = 0; r < lp.n_rows(); ++r) {
     const int i = lp.row_index[r];
     switch (lp.row_kind[r]) {
-      case RowKind::force_x: out.mechanism_ux[i] = lp.length_unit * y[r]; break;
-      case RowKind::force_y: out.mechanism_uy[i] = lp.length_unit * y[r]; break;
-      case RowKind::torque: out.mechanism_theta[i] = y[r]; break;
-      case RowKind::stress: out.mechanism_e[i] = y[r]; break;
+      case RowKind::force_x:
+        out.mechanism_ux[i] = lp.length_unit * y[r];
+        break;
+      case RowKind::force_y:
+        out.mechanism_uy[i] = lp.length_unit * y[r];
+        break;
+      case RowKind::torque:
+        out.mechanism_theta[i] = y[r];
+        break;
+      case RowKind::stress:
+        out.mechanism_e[i] = y[r];
+        break;
     }
   }
   const double e2 = out.mechanism_e[1];
@@ -570,8 +601,9 @@ double balance_residual(const Configuration& config, const FrozenNetwork& net,
   }
   // Units: a sigma_1 for forces, a^2 sigma_1 for torques and the A sigma rows.
   const double force_unit = a * sigma1, moment_unit = a * a * sigma1;
-  double worst = std::max(std::abs(stress1 - cell.area() * sigma1),
-                          std::abs(stress2 - cell.area() * sigma2)) / moment_unit;
+  double worst =
+      std::max(std::abs(stress1 - cell.area() * sigma1), std::abs(stress2 - cell.area() * sigma2)) /
+      moment_unit;
   for (std::size_t i = 0; i < n; ++i) {
     if (!net.disk_active[i]) continue;
     worst = std::max({worst, std::abs(fx[i]) / force_unit, std::abs(fy[i]) / force_unit,
@@ -596,14 +628,14 @@ RigidLimitResult rigid_limit(const Configuration& config, const RigidLimitOption
   const LinearProgram lp = assemble(config, net);
 
   RigidLimitResult result;
-  result.n_disks = static_cast<std::size_t>(
-      std::count(net.disk_active.begin(), net.disk_active.end(), 1));
-  result.n_contacts =
-      static_cast<std::size_t>(std::count(net.active.begin(), net.active.end(), 1));
+  result.n_disks =
+      static_cast<std::size_t>(std::count(net.disk_active.begin(), net.disk_active.end(), 1));
+  result.n_contacts = static_cast<std::size_t>(std::count(net.active.begin(), net.active.end(), 1));
   result.in_lp.assign(net.active.begin(), net.active.end());
   if (lp.n_edges == 0)
-    return failure(result, "infeasible: no contact network carries stress (no contact with h > 0 "
-                           "in a load-bearing cluster)");
+    return failure(result,
+                   "infeasible: no contact network carries stress (no contact with h > 0 "
+                   "in a load-bearing cluster)");
 
   // Smallest sigma_1 at sigma_1 + sigma_2 = 2 P: the direction of largest sigma_2 / sigma_1.
   const Solve lowest = solve(lp, +1.0, options);
@@ -622,8 +654,7 @@ RigidLimitResult rigid_limit(const Configuration& config, const RigidLimitOption
     // attainable at all: check the largest sigma_1.
     const Solve highest = solve(lp, -1.0, options);
     result.iterations += highest.iterations;
-    if (!succeeded(highest.status))
-      return failure(result, "ipopt: " + status_name(highest.status));
+    if (!succeeded(highest.status)) return failure(result, "ipopt: " + status_name(highest.status));
     if (highest.tnlp->s1 <= options.unbounded_threshold)
       return failure(result, "infeasible: the network cannot carry sigma_1 > 0");
     result.q_max = std::numeric_limits<double>::infinity();
@@ -643,11 +674,11 @@ RigidLimitResult rigid_limit(const Configuration& config, const RigidLimitOption
   result.max_residual = balance_residual(config, net, result, lp.length_unit, options.sigma1,
                                          options.sigma1 * (1.0 + result.q_max));
   if (!(result.max_residual <= options.residual_limit)) {
-    RigidLimitResult bad = failure(result, "inaccurate: balance residual " +
-                                               std::to_string(result.max_residual) +
-                                               " exceeds residual_limit");
-    for (auto* v : {&bad.f_n, &bad.f_t, &bad.mechanism_ux, &bad.mechanism_uy,
-                    &bad.mechanism_theta, &bad.mechanism_e})
+    RigidLimitResult bad =
+        failure(result, "inaccurate: balance residual " + std::to_string(result.max_residual) +
+                            " exceeds residual_limit");
+    for (auto* v : {&bad.f_n, &bad.f_t, &bad.mechanism_ux, &bad.mechanism_uy, &bad.mechanism_theta,
+                    &bad.mechanism_e})
       v->clear();
     return bad;
   }

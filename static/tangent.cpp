@@ -32,8 +32,7 @@ LocalMatrix contact_stiffness(const Network& net, const ContactState& s, Contact
       for (int a = 0; a < n_local; ++a) {
         const double g = gx * r.dx[a] + gy * r.dy[a];
         if (g == 0.0) continue;
-        for (int b = 0; b < n_local; ++b)
-          k[a][b] -= g * (f.tx * r.dx[b] + f.ty * r.dy[b]) / f.d;
+        for (int b = 0; b < n_local; ++b) k[a][b] -= g * (f.tx * r.dx[b] + f.ty * r.dy[b]) / f.d;
       }
     }
     // Lever arms a = R - h/2 grow with the distance: da = B_N dq / 2 (the wall does not turn).
@@ -67,8 +66,7 @@ SparseMatrix assemble_tangent(const Network& net, const std::vector<ContactState
     for (int a = 0; a < n_local; ++a) {
       if (dof[a] < 0) continue;
       for (int b = 0; b < n_local; ++b)
-        if (dof[b] >= 0 && (all || k[a][b] != 0.0))
-          triplets.emplace_back(dof[a], dof[b], k[a][b]);
+        if (dof[b] >= 0 && (all || k[a][b] != 0.0)) triplets.emplace_back(dof[a], dof[b], k[a][b]);
     }
   }
   if (parts.load) add_load_stiffness(net, triplets);

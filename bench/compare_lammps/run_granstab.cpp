@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   const int threads = std::atoi(argv[4]);
   EngineOptions options;
   if (argc > 5) options.skin = std::atof(argv[5]);
-  if (const char* m = std::getenv("GS_PARALLEL_MIN_DISKS")) options.parallel_min_disks = std::atol(m);
+  if (const char* m = std::getenv("GS_PARALLEL_MIN_DISKS"))
+    options.parallel_min_disks = std::atol(m);
   omp_set_num_threads(threads);
   Engine e(c, options);  // dt = 0.05 sqrt(m_min / K_N), as in the LAMMPS input
   struct Sample {

@@ -56,24 +56,30 @@ int main(int argc, char** argv) {
   bool shuffle = false;
   for (int k = 1; k + 1 < argc; k += 2) {
     const std::string key = argv[k], value = argv[k + 1];
-    if (key == "--sizes") sizes = parse_list(value);
-    else if (key == "--threads") threads = parse_list(value);
-    else if (key == "--repeats") repeats = std::stoi(value);
-    else if (key == "--steps") steps = std::stoi(value);
-    else if (key == "--shuffle") shuffle = std::stoi(value) != 0;
+    if (key == "--sizes")
+      sizes = parse_list(value);
+    else if (key == "--threads")
+      threads = parse_list(value);
+    else if (key == "--repeats")
+      repeats = std::stoi(value);
+    else if (key == "--steps")
+      steps = std::stoi(value);
+    else if (key == "--shuffle")
+      shuffle = std::stoi(value) != 0;
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
     }
   }
   const Material material = Material::from_kappa(1e4, 1.0, 0.5, 1.0);
-  std::printf("%8s %8s %14s %19s %16s %10s %9s\n", "N", "threads", "median p-s/s",
-              "min..max", "median p-s/cpu-s", "contacts/N", "rebuilds");
+  std::printf("%8s %8s %14s %19s %16s %10s %9s\n", "N", "threads", "median p-s/s", "min..max",
+              "median p-s/cpu-s", "contacts/N", "rebuilds");
   for (int n : sizes) {
     omp_set_num_threads(1);  // preparation: one thread (robust on a loaded machine)
     const auto t0 = std::chrono::steady_clock::now();
     Configuration sample = bench::dense_sample(n, material, 2026);
-    const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double prep =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     sample.stage.control = {LengthControl::stress, LengthControl::strain_rate};
     sample.stage.sigma_ext = {1.0, 1.0};
     sample.stage.strain_rate = {0.0, 1e-4};

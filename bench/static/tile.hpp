@@ -17,8 +17,8 @@ inline Configuration tile(const Configuration& c, int nx, int ny) {
   for (int iy = 0; iy < ny; ++iy)
     for (int ix = 0; ix < nx; ++ix)
       for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t k = t.disks.add(c.disks.x[i] + ix * l1, c.disks.y[i] + iy * l2,
-                                          c.disks.radius[i]);
+        const std::size_t k =
+            t.disks.add(c.disks.x[i] + ix * l1, c.disks.y[i] + iy * l2, c.disks.radius[i]);
         t.disks.theta[k] = c.disks.theta[i];
       }
   const auto wrap = [](int v, int m) { return ((v % m) + m) % m; };

@@ -41,8 +41,8 @@ struct Named {
   T value;
 };
 
-constexpr std::array<Named<Boundary>, 2> boundary_names{{{"periodic", Boundary::periodic},
-                                                         {"walls", Boundary::walls}}};
+constexpr std::array<Named<Boundary>, 2> boundary_names{
+    {{"periodic", Boundary::periodic}, {"walls", Boundary::walls}}};
 constexpr std::array<Named<LengthControl>, 3> control_names{
     {{"stress", LengthControl::stress},
      {"strain_rate", LengthControl::strain_rate},
@@ -54,10 +54,8 @@ constexpr std::array<Named<ContactStatus>, 4> status_names{
      {"slide+", ContactStatus::slide_positive},
      {"slide-", ContactStatus::slide_negative},
      {"open", ContactStatus::open}}};
-constexpr std::array<Named<Wall>, 4> wall_names{{{"left", wall_left},
-                                                 {"right", wall_right},
-                                                 {"bottom", wall_bottom},
-                                                 {"top", wall_top}}};
+constexpr std::array<Named<Wall>, 4> wall_names{
+    {{"left", wall_left}, {"right", wall_right}, {"bottom", wall_bottom}, {"top", wall_top}}};
 
 template <class T, std::size_t n>
 std::string_view name_of(const std::array<Named<T>, n>& names, T value) {
@@ -97,8 +95,7 @@ class Writer {
   // Shortest representation that reads back to the same double (std::to_chars guarantees it).
   Writer& number(double v, std::string_view field) {
     if (!std::isfinite(v))
-      throw std::invalid_argument("write_configuration: " + std::string(field) +
-                                  " is not finite");
+      throw std::invalid_argument("write_configuration: " + std::string(field) + " is not finite");
     std::array<char, 64> buf;
     const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
     return word(std::string_view(buf.data(), static_cast<std::size_t>(r.ptr - buf.data())));
@@ -138,7 +135,8 @@ class Reader {
       std::string_view line = text_.substr(pos_, end - pos_);
       pos_ = end + 1;
       ++line_;
-      if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+      if (const auto hash = line.find('#'); hash != std::string_view::npos)
+        line = line.substr(0, hash);
       tokens_.clear();
       std::size_t i = 0;
       while (i < line.size()) {
@@ -172,9 +170,9 @@ class Reader {
     const std::string_view found = tokens_[0];
     if (found != keyword) {
       if (looks_numeric(found))
-        fail(cat("expected '", keyword, "', found a data line (more lines than the declared count?)"));
-      if (is_known_keyword(found))
-        fail(cat("expected '", keyword, "', found '", found, "'"));
+        fail(cat("expected '", keyword,
+                 "', found a data line (more lines than the declared count?)"));
+      if (is_known_keyword(found)) fail(cat("expected '", keyword, "', found '", found, "'"));
       fail(cat("unknown keyword '", found, "' (expected '", keyword, "')"));
     }
     values(n_values, keyword);
@@ -227,11 +225,27 @@ class Reader {
     return (c >= '0' && c <= '9') || c == '-' || c == '+' || c == '.';
   }
   static bool is_known_keyword(std::string_view t) {
-    static constexpr std::array<std::string_view, 21> known{
-        "time", "step", "rng_state", "boundary", "cell.length", "cell.length_rate", "cell.mass",
-        "material.k_n", "material.k_t", "material.mu", "material.zeta", "material.mu_wall",
-        "stage.reference_length", "stage.sigma_ext", "stage.control", "stage.strain_rate",
-        "stage.measure", "disks", "contacts", "end", magic};
+    static constexpr std::array<std::string_view, 21> known{"time",
+                                                            "step",
+                                                            "rng_state",
+                                                            "boundary",
+                                                            "cell.length",
+                                                            "cell.length_rate",
+                                                            "cell.mass",
+                                                            "material.k_n",
+                                                            "material.k_t",
+                                                            "material.mu",
+                                                            "material.zeta",
+                                                            "material.mu_wall",
+                                                            "stage.reference_length",
+                                                            "stage.sigma_ext",
+                                                            "stage.control",
+                                                            "stage.strain_rate",
+                                                            "stage.measure",
+                                                            "disks",
+                                                            "contacts",
+                                                            "end",
+                                                            magic};
     for (const auto k : known)
       if (k == t) return true;
     return false;
@@ -296,20 +310,21 @@ void read_cell(Reader& in, Cell& cell) {
   } catch (const std::invalid_argument& e) {
     // validate() names the field (cell.L1, cell.L1_rate or cell.mass1); point at its line.
     const std::string what = e.what();
-    const int line = what.starts_with("cell.mass") ? in.line()
+    const int line = what.starts_with("cell.mass")             ? in.line()
                      : what.find("_rate") != std::string::npos ? rate_line
-                                                                : length_line;
+                                                               : length_line;
     in.fail_at(line, what);
   }
 }
 
 void read_material(Reader& in, Material& m) {
   // The keys are the field names validate() uses, so its message finds its line.
-  const std::array<std::pair<std::string_view, double*>, 5> fields{{{"material.k_n", &m.k_n},
-                                                                    {"material.k_t", &m.k_t},
-                                                                    {"material.mu", &m.mu},
-                                                                    {"material.zeta", &m.zeta},
-                                                                    {"material.mu_wall", &m.mu_wall}}};
+  const std::array<std::pair<std::string_view, double*>, 5> fields{
+      {{"material.k_n", &m.k_n},
+       {"material.k_t", &m.k_t},
+       {"material.mu", &m.mu},
+       {"material.zeta", &m.zeta},
+       {"material.mu_wall", &m.mu_wall}}};
   std::array<int, 5> lines{};
   for (std::size_t f = 0; f < fields.size(); ++f) {
     *fields[f].second = read_scalar(in, fields[f].first);
@@ -362,8 +377,8 @@ void read_disks(Reader& in, Configuration& c) {
     const std::string disk = "disk " + std::to_string(i);
     in.require_more(disk + " (the file declares " + std::to_string(n) + " disks)");
     if (in.token(0) == "contacts")
-      in.fail("found 'contacts' after " + std::to_string(i) + " disk lines, but the file declares " +
-              std::to_string(n) + " disks");
+      in.fail("found 'contacts' after " + std::to_string(i) +
+              " disk lines, but the file declares " + std::to_string(n) + " disks");
     in.values(9, disk, 0);
     for (std::size_t f = 0; f < columns.size(); ++f)
       fields[f]->push_back(in.real(f, cat(disk, " ", columns[f])));
@@ -408,7 +423,8 @@ void read_contacts(Reader& in, Configuration& c) {
         j = w.value;
         wall = true;
       }
-    if (wall && periodic) in.fail(cat(contact, ": wall contact '", in.token(1), "' in a periodic cell"));
+    if (wall && periodic)
+      in.fail(cat(contact, ": wall contact '", in.token(1), "' in a periodic cell"));
     if (!wall) {
       j = in.integer<std::int64_t>(1, contact + " j");
       if (j < 0 || j >= n_disks)
@@ -420,7 +436,8 @@ void read_contacts(Reader& in, Configuration& c) {
     if (!periodic && (k1 != 0 || k2 != 0))
       in.fail(contact + ": image shift (" + std::to_string(k1) + ", " + std::to_string(k2) +
               ") must be (0, 0) between walls");
-    if (i == j && k1 == 0 && k2 == 0) in.fail(contact + ": disk " + std::to_string(i) + " in contact with itself");
+    if (i == j && k1 == 0 && k2 == 0)
+      in.fail(contact + ": disk " + std::to_string(i) + " in contact with itself");
     const double delta_t = in.real(4, contact + " delta_t");
     const ContactStatus status = in.name(5, status_names, contact + " status");
     k.add(static_cast<int>(i), static_cast<int>(j), k1, k2, delta_t, status);
@@ -516,7 +533,8 @@ void write_configuration(const Configuration& config, const std::filesystem::pat
   try {
     parse_configuration(text, path.string());
   } catch (const std::runtime_error& e) {
-    throw std::invalid_argument(cat("write_configuration: invalid configuration, not written: ", e.what()));
+    throw std::invalid_argument(
+        cat("write_configuration: invalid configuration, not written: ", e.what()));
   }
   write_file_atomically(path, text);
 }

@@ -18,8 +18,10 @@ std::string csv_number(double v) {
 
 CsvWriter::CsvWriter(std::filesystem::path path, std::vector<std::string> columns,
                      double flush_interval_seconds)
-    : path_(std::move(path)), columns_(std::move(columns)),
-      flush_interval_(flush_interval_seconds), last_flush_(std::chrono::steady_clock::now()) {
+    : path_(std::move(path)),
+      columns_(std::move(columns)),
+      flush_interval_(flush_interval_seconds),
+      last_flush_(std::chrono::steady_clock::now()) {
   if (columns_.empty()) throw std::invalid_argument("csv " + path_.string() + ": no columns");
   for (std::size_t c = 0; c < columns_.size(); ++c) {
     if (c) text_ += ',';

@@ -21,7 +21,8 @@ std::string json_string(std::string_view s) {
       out += ch;
     } else if (static_cast<unsigned char>(ch) < 0x20) {
       char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+      std::snprintf(buf, sizeof buf, "\\u%04x",
+                    static_cast<unsigned>(static_cast<unsigned char>(ch)));
       out += buf;
     } else {
       out += ch;

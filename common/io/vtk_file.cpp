@@ -82,9 +82,10 @@ std::string format_vtu(const Configuration& c) {
 
   std::string out;
   out.reserve(200 * points);
-  out += "<?xml version=\"1.0\"?>\n"
-         "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-         "  <UnstructuredGrid>\n";
+  out +=
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <UnstructuredGrid>\n";
   out += "    <Piece NumberOfPoints=\"" + std::to_string(points) + "\" NumberOfCells=\"" +
          std::to_string(cells) + "\">\n";
   out += "      <Points>\n";
@@ -101,24 +102,28 @@ std::string format_vtu(const Configuration& c) {
   data_array(out, "Float64", "f_t", 1, f_t);
   data_array(out, "Float64", "sliding", 1, sliding);
   data_array(out, "Float64", "wall", 1, wall);
-  out += "      </CellData>\n      <Cells>\n"
-         "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  out +=
+      "      </CellData>\n      <Cells>\n"
+      "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
   for (std::size_t i = 0; i < n; ++i) put(out, i);
   for (std::size_t s = 0; s < shown.size(); ++s) {
     put(out, n + 2 * s);
     put(out, n + 2 * s + 1);
   }
-  out += "\n        </DataArray>\n"
-         "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  out +=
+      "\n        </DataArray>\n"
+      "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
   for (std::size_t i = 0; i < n; ++i) put(out, i + 1);
   for (std::size_t s = 0; s < shown.size(); ++s) put(out, n + 2 * (s + 1));
-  out += "\n        </DataArray>\n"
-         "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  out +=
+      "\n        </DataArray>\n"
+      "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
   // VTK_VERTEX = 1, VTK_LINE = 3.
   for (std::size_t i = 0; i < n; ++i) out += "1 ";
   for (std::size_t s = 0; s < shown.size(); ++s) out += "3 ";
-  out += "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n"
-         "</VTKFile>\n";
+  out +=
+      "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n"
+      "</VTKFile>\n";
   return out;
 }
 

@@ -22,8 +22,8 @@ double deviator_ratio(const Engine& engine);
 
 // --- SRC --------------------------------------------------------------------------------------
 struct StrainRateOptions {
-  double gamma = 1e-4;             // d epsilon_2 / dt in units of sqrt(P/m) (SPEC §1.2)
-  double record_interval = 1e-4;   // strain between two recorded states
+  double gamma = 1e-4;            // d epsilon_2 / dt in units of sqrt(P/m) (SPEC §1.2)
+  double record_interval = 1e-4;  // strain between two recorded states
 };
 
 // Called with the exported state at every recorded strain; returns false to stop the run.

@@ -5,8 +5,7 @@
 namespace granstab::protocols {
 
 CompactionResult compact_isotropically(Engine& engine, const CompactionOptions& options,
-                                       Configuration& state,
-                                       const EquilibrationObserver& observer,
+                                       Configuration& state, const EquilibrationObserver& observer,
                                        const LoopControl& control) {
   if (!(options.pressure > 0.0)) throw std::invalid_argument("compaction: pressure must be > 0");
   if (!(options.strain_rate >= 0.0)) {

@@ -42,8 +42,7 @@ EquilibriumReport check_loaded_equilibrium(const Configuration& state,
 }
 
 EquilibrationResult run_to_equilibrium(Engine& engine, const EquilibrationOptions& options,
-                                       Configuration& state,
-                                       const EquilibrationObserver& observer,
+                                       Configuration& state, const EquilibrationObserver& observer,
                                        std::span<const double> external_fx,
                                        std::span<const double> external_fy,
                                        const LoopControl& control) {
@@ -59,8 +58,7 @@ EquilibrationResult run_to_equilibrium(Engine& engine, const EquilibrationOption
     if (!checked) {
       control.check(engine);
       engine.export_to(state);
-      result.report =
-          check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
+      result.report = check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
       const bool go_on = !observer || observer(engine, state, result.report);
       if (result.report.in_equilibrium) {
         result.reached = true;
@@ -75,8 +73,7 @@ EquilibrationResult run_to_equilibrium(Engine& engine, const EquilibrationOption
       control.safe_point(engine, cursor);
     } else if (result.steps >= options.max_steps) {
       engine.export_to(state);
-      result.report =
-          check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
+      result.report = check_loaded_equilibrium(state, options.tolerances, external_fx, external_fy);
       return result;
     }
     checked = false;

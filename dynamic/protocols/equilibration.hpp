@@ -15,8 +15,8 @@ namespace granstab::protocols {
 
 struct EquilibrationOptions {
   EquilibriumTolerances tolerances;
-  std::uint64_t check_interval = 200;      // steps between two checks
-  std::uint64_t max_steps = 10'000'000;    // guard: give up after this many steps
+  std::uint64_t check_interval = 200;    // steps between two checks
+  std::uint64_t max_steps = 10'000'000;  // guard: give up after this many steps
 };
 
 struct EquilibrationResult {

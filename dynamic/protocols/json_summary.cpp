@@ -94,7 +94,7 @@ JsonObject equilibrium_json(const EquilibriumReport& r, const EquilibriumToleran
       .add("max_net_force", r.max_net_force)
       .add("max_net_torque", r.max_net_torque)
       .add("stress_error", std::vector<double>{r.stress_checked[0] ? r.stress_error[0] : NAN,
-                                                r.stress_checked[1] ? r.stress_error[1] : NAN})
+                                               r.stress_checked[1] ? r.stress_error[1] : NAN})
       .add("e_c", r.e_c)
       .add("f_2", r.f_2)
       .add("tolerance_force", t.force)

@@ -80,8 +80,7 @@ void run_perturbations(Engine& engine, const PerturbationOptions& options, std::
     // Without this guard a sample that flows at the held q would run until the cell collapses.
     const auto guarded = [&](const Engine& e, const Configuration& s, const EquilibriumReport& r) {
       if (observer && !observer(e, s, r)) return false;
-      return std::abs(axial_strain(e) - record.epsilon_2_before) <=
-             options.failure_delta_epsilon_2;
+      return std::abs(axial_strain(e) - record.epsilon_2_before) <= options.failure_delta_epsilon_2;
     };
     const bool resume_released = resumed && control.cursor.phase == released_phase;
     if (resume_released) {

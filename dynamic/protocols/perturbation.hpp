@@ -44,7 +44,6 @@ void run_perturbations(Engine& engine, const PerturbationOptions& options, std::
                        Configuration& state,
                        const std::function<bool(const Engine&, const Configuration&,
                                                 const PerturbationRecord&)>& on_record,
-                       const EquilibrationObserver& observer = {},
-                       const LoopControl& control = {});
+                       const EquilibrationObserver& observer = {}, const LoopControl& control = {});
 
 }  // namespace granstab::protocols

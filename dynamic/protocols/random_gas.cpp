@@ -49,15 +49,15 @@ class PlacementGrid {
     return true;
   }
 
-  void insert(int disk, double x, double y) { buckets_[index(bucket(x, 0), bucket(y, 1))].push_back(disk); }
+  void insert(int disk, double x, double y) {
+    buckets_[index(bucket(x, 0), bucket(y, 1))].push_back(disk);
+  }
 
  private:
   int bucket(double v, int a) const {
     return std::min(count_[a] - 1, std::max(0, static_cast<int>(std::floor(v / size_[a]))));
   }
-  std::size_t index(int cx, int cy) const {
-    return static_cast<std::size_t>(cy) * count_[0] + cx;
-  }
+  std::size_t index(int cx, int cy) const { return static_cast<std::size_t>(cy) * count_[0] + cx; }
   std::array<double, 2> length_;
   bool periodic_;
   std::array<int, 2> count_{};

@@ -3,12 +3,33 @@
 namespace granstab::protocols {
 
 std::vector<std::string> state_columns() {
-  return {"step",        "time",         "L1",          "L2",         "dL1_dt",
-          "dL2_dt",      "epsilon_1",    "epsilon_2",   "epsilon_v",  "sigma_11",
-          "sigma_22",    "sigma_12",     "q",           "phi",        "z",
-          "x0",          "x_s",          "e_c",         "f_2",        "torque_2",
-          "max_net_force", "max_net_torque", "contacts", "sliding",   "rattlers",
-          "wall_sigma_1", "wall_sigma_2"};
+  return {"step",
+          "time",
+          "L1",
+          "L2",
+          "dL1_dt",
+          "dL2_dt",
+          "epsilon_1",
+          "epsilon_2",
+          "epsilon_v",
+          "sigma_11",
+          "sigma_22",
+          "sigma_12",
+          "q",
+          "phi",
+          "z",
+          "x0",
+          "x_s",
+          "e_c",
+          "f_2",
+          "torque_2",
+          "max_net_force",
+          "max_net_torque",
+          "contacts",
+          "sliding",
+          "rattlers",
+          "wall_sigma_1",
+          "wall_sigma_2"};
 }
 
 std::vector<double> state_row(const Configuration& s, const Measurements& m) {

@@ -29,13 +29,13 @@ std::string slurp(const std::filesystem::path& path, const std::string& what) {
 GuardSettings read_guard_settings(RunConfig& rc, const std::filesystem::path& default_checkpoint) {
   GuardSettings s;
   s.checkpoint = rc.path("checkpoint.path").value_or(default_checkpoint);
-  s.every_steps = static_cast<std::uint64_t>(rc.integer(
-      "checkpoint.every_steps", 0, 0, std::numeric_limits<std::int64_t>::max()));
+  s.every_steps = static_cast<std::uint64_t>(
+      rc.integer("checkpoint.every_steps", 0, 0, std::numeric_limits<std::int64_t>::max()));
   s.every_seconds = rc.number("checkpoint.every_seconds", s.every_seconds, 0.0, 1e9);
-  s.sanity.max_overlap_fraction = rc.number("sanity.max_overlap_fraction",
-                                            s.sanity.max_overlap_fraction, 1e-6, 2.0);
-  s.sanity.max_kinetic_energy = rc.number("sanity.max_kinetic_energy",
-                                          s.sanity.max_kinetic_energy, 1e-12, 1e12);
+  s.sanity.max_overlap_fraction =
+      rc.number("sanity.max_overlap_fraction", s.sanity.max_overlap_fraction, 1e-6, 2.0);
+  s.sanity.max_kinetic_energy =
+      rc.number("sanity.max_kinetic_energy", s.sanity.max_kinetic_energy, 1e-12, 1e12);
   s.sanity_every_steps = static_cast<std::uint64_t>(
       rc.integer("sanity.every_steps", static_cast<std::int64_t>(s.sanity_every_steps), 1,
                  std::numeric_limits<std::int64_t>::max()));
@@ -122,7 +122,8 @@ Invocation Invocation::get(const Checkpoint& c) {
   inv.settings_text = c.text("run.settings_text");
   const std::uint64_t n = c.count("run.overrides");
   if (n > 10000) throw std::runtime_error(c.source_name() + ": entry run.overrides: too many");
-  for (std::uint64_t k = 0; k < n; ++k) inv.overrides.push_back(c.text("run.override_" + std::to_string(k)));
+  for (std::uint64_t k = 0; k < n; ++k)
+    inv.overrides.push_back(c.text("run.override_" + std::to_string(k)));
   inv.working_directory = c.text("run.working_directory");
   const std::uint64_t n_arguments = c.has("run.arguments") ? c.count("run.arguments") : 0;
   if (n_arguments > 10000) {
@@ -192,7 +193,8 @@ std::string file_checksum(const std::filesystem::path& path) {
 }
 
 RunGuard::RunGuard(GuardSettings settings, std::string label)
-    : settings_(std::move(settings)), label_(std::move(label)),
+    : settings_(std::move(settings)),
+      label_(std::move(label)),
       last_written_time_(std::chrono::steady_clock::now()) {
   caught = 0;
   struct sigaction action {};
@@ -272,8 +274,7 @@ void RunGuard::safe_point(const Engine& engine, const Builder& build) {
 bool RunGuard::wants(const Engine& engine) const {
   const std::uint64_t step = engine.step_count();
   return caught != 0 || !last_checked_step_ ||
-         step - *last_checked_step_ >= settings_.sanity_every_steps ||
-         !last_written_step_ ||
+         step - *last_checked_step_ >= settings_.sanity_every_steps || !last_written_step_ ||
          (settings_.every_steps > 0 && step - *last_written_step_ >= settings_.every_steps) ||
          (settings_.every_seconds > 0.0 &&
           std::chrono::duration<double>(std::chrono::steady_clock::now() - last_written_time_)
@@ -289,9 +290,8 @@ void restore_csv(CsvWriter& csv, std::uint64_t bytes) {
   const std::string name = csv.path().string();
   const std::string all = slurp(csv.path(), "the CSV output to resume");
   if (all.size() < bytes) {
-    throw std::runtime_error(name + ": " + std::to_string(all.size()) +
-                             " bytes, fewer than the " + std::to_string(bytes) +
-                             " the checkpoint recorded (was it changed?)");
+    throw std::runtime_error(name + ": " + std::to_string(all.size()) + " bytes, fewer than the " +
+                             std::to_string(bytes) + " the checkpoint recorded (was it changed?)");
   }
   const std::string_view kept(all.data(), bytes);
   const std::size_t header_end = kept.find('\n');

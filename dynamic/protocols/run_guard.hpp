@@ -22,10 +22,10 @@
 namespace granstab::protocols {
 
 struct GuardSettings {
-  std::filesystem::path checkpoint;   // [checkpoint] path; default: beside the main output
-  std::uint64_t every_steps = 0;      // [checkpoint] every_steps; 0: not by steps
-  double every_seconds = 300.0;       // [checkpoint] every_seconds; 0: not by time
-  dynamic::SanityLimits sanity;       // [sanity] max_overlap_fraction, max_kinetic_energy
+  std::filesystem::path checkpoint;         // [checkpoint] path; default: beside the main output
+  std::uint64_t every_steps = 0;            // [checkpoint] every_steps; 0: not by steps
+  double every_seconds = 300.0;             // [checkpoint] every_seconds; 0: not by time
+  dynamic::SanityLimits sanity;             // [sanity] max_overlap_fraction, max_kinetic_energy
   std::uint64_t sanity_every_steps = 1000;  // [sanity] every_steps
 };
 
@@ -52,8 +52,8 @@ class BlewUp : public std::runtime_error {
 // How the run was started: what `granstab resume` needs to start it again. The settings text is
 // kept whole, so editing the settings file afterwards does not change a resumed run.
 struct Invocation {
-  std::string command;                 // "prepare", "biaxial", ...
-  std::string settings;                // the settings path as given ("" for `compare`)
+  std::string command;   // "prepare", "biaxial", ...
+  std::string settings;  // the settings path as given ("" for `compare`)
   std::string settings_text;
   std::vector<std::string> overrides;  // --set key=value
   // A command set up by its command line (`compare`): its arguments as given, parsed again by a
@@ -149,7 +149,8 @@ class RunGuard {
   std::chrono::steady_clock::time_point last_written_time_;
   std::size_t written_ = 0;
   Configuration exported_;  // storage reused by the sanity checks
-  struct sigaction old_int_{}, old_term_{};
+  struct sigaction old_int_ {
+  }, old_term_{};
 };
 
 // Resuming a CSV output: the file is cut to the `bytes` a checkpoint recorded (rows written after

@@ -23,12 +23,11 @@ EquilibrationOptions read_equilibration(RunConfig& rc) {
   o.tolerances.force = rc.number("equilibrium.force", o.tolerances.force, 1e-15, 1.0);
   o.tolerances.torque = rc.number("equilibrium.torque", o.tolerances.torque, 1e-15, 1.0);
   o.tolerances.stress = rc.number("equilibrium.stress", o.tolerances.stress, 1e-15, 1.0);
-  o.check_interval = static_cast<std::uint64_t>(
-      rc.integer("equilibrium.check_interval", static_cast<std::int64_t>(o.check_interval), 1,
-                 100'000'000));
-  o.max_steps = static_cast<std::uint64_t>(rc.integer(
-      "equilibrium.max_steps", static_cast<std::int64_t>(o.max_steps), 0,
-      std::numeric_limits<std::int64_t>::max()));
+  o.check_interval = static_cast<std::uint64_t>(rc.integer(
+      "equilibrium.check_interval", static_cast<std::int64_t>(o.check_interval), 1, 100'000'000));
+  o.max_steps = static_cast<std::uint64_t>(rc.integer("equilibrium.max_steps",
+                                                      static_cast<std::int64_t>(o.max_steps), 0,
+                                                      std::numeric_limits<std::int64_t>::max()));
   return o;
 }
 
@@ -54,8 +53,8 @@ std::filesystem::path required_path(RunConfig& rc, std::string_view key) {
 std::filesystem::path existing_file(RunConfig& rc, std::string_view key) {
   const auto p = required_path(rc, key);
   if (!std::filesystem::is_regular_file(p)) {
-    throw std::invalid_argument(rc.source_name() + ": " + std::string(key) + " = \"" +
-                                p.string() + "\": no such file");
+    throw std::invalid_argument(rc.source_name() + ": " + std::string(key) + " = \"" + p.string() +
+                                "\": no such file");
   }
   return p;
 }

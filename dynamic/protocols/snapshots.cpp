@@ -10,8 +10,8 @@ namespace granstab::protocols {
 SnapshotSettings read_snapshot_settings(RunConfig& rc) {
   SnapshotSettings s;
   s.prefix = rc.path("output.vtk");
-  s.interval = static_cast<std::uint64_t>(rc.integer(
-      "output.vtk_interval", 0, 0, std::numeric_limits<std::int64_t>::max()));
+  s.interval = static_cast<std::uint64_t>(
+      rc.integer("output.vtk_interval", 0, 0, std::numeric_limits<std::int64_t>::max()));
   return s;
 }
 

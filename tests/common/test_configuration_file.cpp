@@ -88,7 +88,8 @@ Configuration random_configuration(Boundary boundary, std::uint64_t seed) {
   c.material.mu_wall = std::abs(r.any());
   c.stage.reference_length = {r.positive(), r.positive()};
   c.stage.sigma_ext = {r.any(), r.any()};
-  c.stage.control = {static_cast<LengthControl>(r.raw() % 3), static_cast<LengthControl>(r.raw() % 3)};
+  c.stage.control = {static_cast<LengthControl>(r.raw() % 3),
+                     static_cast<LengthControl>(r.raw() % 3)};
   c.stage.strain_rate = {r.any(), r.any()};
   c.stage.measure = static_cast<StressMeasure>(r.raw() % 2);
   const int n = 40;
@@ -118,7 +119,8 @@ Configuration random_configuration(Boundary boundary, std::uint64_t seed) {
       j = -1 - static_cast<int>(r.raw() % 4);
     } else if (boundary == Boundary::periodic) {
       k1 = static_cast<std::int32_t>(static_cast<std::uint32_t>(r.raw()));
-      k2 = m % 7 == 0 ? std::numeric_limits<std::int32_t>::min() : static_cast<int>(r.raw() % 3) - 1;
+      k2 =
+          m % 7 == 0 ? std::numeric_limits<std::int32_t>::min() : static_cast<int>(r.raw() % 3) - 1;
     }
     if (i == j && k1 == 0 && k2 == 0) j = (i + 1) % n;
     c.contacts.add(i, j, k1, k2, r.any(), static_cast<ContactStatus>(r.raw() % 4));
@@ -248,8 +250,9 @@ TEST(ConfigurationFile, RefusesToWriteWhatCannotBeReadBack) {
   dangling.contacts.j[0] = 9;
   EXPECT_THROW(write_configuration(dangling, file), std::invalid_argument);
   EXPECT_TRUE(fs::is_empty(dir.path()));
-  EXPECT_THROW(write_configuration(samples::triangular_lattice(1e3), dir.path() / "no" / "dir.granstab"),
-               std::runtime_error);
+  EXPECT_THROW(
+      write_configuration(samples::triangular_lattice(1e3), dir.path() / "no" / "dir.granstab"),
+      std::runtime_error);
   EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
@@ -257,33 +260,33 @@ TEST(ConfigurationFile, RefusesToWriteWhatCannotBeReadBack) {
 
 // A valid periodic file; each case below changes one thing and names the line it must report.
 const std::vector<std::string> base_lines = {
-    "granstab-configuration 1",                      // 1
-    "# two disks touching across the x boundary",    // 2
-    "time 0.5",                                      // 3
-    "step 7",                                        // 4
-    "rng_state",                                     // 5
-    "boundary periodic",                             // 6
-    "cell.length 4 3",                               // 7
-    "cell.length_rate 0 0",                          // 8
-    "cell.mass 1 1",                                 // 9
-    "material.k_n 1000",                             // 10
-    "material.k_t 500",                              // 11
-    "material.mu 0.5",                               // 12
-    "material.zeta 1",                               // 13
-    "material.mu_wall 0",                            // 14
-    "stage.reference_length 4 3",                    // 15
-    "stage.sigma_ext 1 1",                           // 16
-    "stage.control stress strain_rate",              // 17
-    "stage.strain_rate 0 1e-4",                      // 18
-    "stage.measure cauchy",                          // 19
-    "disks 2",                                       // 20
-    "# x y radius mass inertia vx vy omega theta",   // 21
-    "0.3 1.5 0.5 1 0.125 0 0 0 0",                   // 22
-    "3.9 1.5 0.5 1 0.125 0 0 0 0",                   // 23
-    "contacts 1",                                    // 24
-    "# i j k1 k2 delta_t status",                    // 25
-    "0 1 -1 0 1e-5 stick",                           // 26
-    "end",                                           // 27
+    "granstab-configuration 1",                     // 1
+    "# two disks touching across the x boundary",   // 2
+    "time 0.5",                                     // 3
+    "step 7",                                       // 4
+    "rng_state",                                    // 5
+    "boundary periodic",                            // 6
+    "cell.length 4 3",                              // 7
+    "cell.length_rate 0 0",                         // 8
+    "cell.mass 1 1",                                // 9
+    "material.k_n 1000",                            // 10
+    "material.k_t 500",                             // 11
+    "material.mu 0.5",                              // 12
+    "material.zeta 1",                              // 13
+    "material.mu_wall 0",                           // 14
+    "stage.reference_length 4 3",                   // 15
+    "stage.sigma_ext 1 1",                          // 16
+    "stage.control stress strain_rate",             // 17
+    "stage.strain_rate 0 1e-4",                     // 18
+    "stage.measure cauchy",                         // 19
+    "disks 2",                                      // 20
+    "# x y radius mass inertia vx vy omega theta",  // 21
+    "0.3 1.5 0.5 1 0.125 0 0 0 0",                  // 22
+    "3.9 1.5 0.5 1 0.125 0 0 0 0",                  // 23
+    "contacts 1",                                   // 24
+    "# i j k1 k2 delta_t status",                   // 25
+    "0 1 -1 0 1e-5 stick",                          // 26
+    "end",                                          // 27
 };
 
 std::string join(const std::vector<std::string>& lines) {
@@ -351,9 +354,11 @@ TEST(ConfigurationFile, RejectsTruncatedFiles) {
 }
 
 TEST(ConfigurationFile, RejectsWrongCounts) {
-  expect_rejected(replaced(20, "disks 3"), 24, "found 'contacts' after 2 disk lines, but the file declares 3");
+  expect_rejected(replaced(20, "disks 3"), 24,
+                  "found 'contacts' after 2 disk lines, but the file declares 3");
   expect_rejected(replaced(20, "disks 1"), 23, "expected 'contacts', found a data line");
-  expect_rejected(replaced(24, "contacts 2"), 27, "found 'end' after 1 contact lines, but the file declares 2");
+  expect_rejected(replaced(24, "contacts 2"), 27,
+                  "found 'end' after 1 contact lines, but the file declares 2");
   expect_rejected(replaced(24, "contacts 0"), 26, "expected 'end', found a data line");
   expect_rejected(replaced(20, "disks -1"), 20, "disks = -1: must be >= 0");
   // A corrupt count fails on the lines, without first allocating for two billion disks.
@@ -361,19 +366,27 @@ TEST(ConfigurationFile, RejectsWrongCounts) {
   expect_rejected(replaced(20, "disks 99999999999999999999"), 20, "integer out of range");
   expect_rejected(replaced(20, "disks 2.5"), 20, "disks: '2.5' is not an integer");
   expect_rejected(replaced(7, "cell.length 4"), 7, "cell.length: expected 2 values, found 1");
-  expect_rejected(replaced(22, "0.3 1.5 0.5 1 0.125 0 0 0"), 22, "disk 0: expected 9 values, found 8");
+  expect_rejected(replaced(22, "0.3 1.5 0.5 1 0.125 0 0 0"), 22,
+                  "disk 0: expected 9 values, found 8");
 }
 
 TEST(ConfigurationFile, RejectsNonNumericAndNonFiniteValues) {
-  expect_rejected(replaced(22, "0.3 abc 0.5 1 0.125 0 0 0 0"), 22, "disk 0 y: 'abc' is not a number");
-  expect_rejected(replaced(22, "0.3 1.5 0.5 1 0.125 0 0 0 1.5x"), 22, "disk 0 theta: '1.5x' is not a number");
-  expect_rejected(replaced(23, "3.9 1.5 0.5 1 0.125 nan 0 0 0"), 23, "disk 1 vx = nan: must be finite");
-  expect_rejected(replaced(23, "3.9 1.5 0.5 1 0.125 0 inf 0 0"), 23, "disk 1 vy = inf: must be finite");
+  expect_rejected(replaced(22, "0.3 abc 0.5 1 0.125 0 0 0 0"), 22,
+                  "disk 0 y: 'abc' is not a number");
+  expect_rejected(replaced(22, "0.3 1.5 0.5 1 0.125 0 0 0 1.5x"), 22,
+                  "disk 0 theta: '1.5x' is not a number");
+  expect_rejected(replaced(23, "3.9 1.5 0.5 1 0.125 nan 0 0 0"), 23,
+                  "disk 1 vx = nan: must be finite");
+  expect_rejected(replaced(23, "3.9 1.5 0.5 1 0.125 0 inf 0 0"), 23,
+                  "disk 1 vy = inf: must be finite");
   expect_rejected(replaced(3, "time 1e999"), 3, "time = 1e999: out of the range of a double");
-  expect_rejected(replaced(16, "stage.sigma_ext 1 -inf"), 16, "stage.sigma_ext[2] = -inf: must be finite");
-  expect_rejected(replaced(26, "0 1 -1 0 0x1p3 stick"), 26, "contact 0 delta_t: '0x1p3' is not a number");
+  expect_rejected(replaced(16, "stage.sigma_ext 1 -inf"), 16,
+                  "stage.sigma_ext[2] = -inf: must be finite");
+  expect_rejected(replaced(26, "0 1 -1 0 0x1p3 stick"), 26,
+                  "contact 0 delta_t: '0x1p3' is not a number");
   expect_rejected(replaced(4, "step -7"), 4, "step: '-7' is not an integer");
-  expect_rejected(replaced(26, "0 1 99999999999 0 0 stick"), 26, "contact 0 k1 = 99999999999: integer out of range");
+  expect_rejected(replaced(26, "0 1 99999999999 0 0 stick"), 26,
+                  "contact 0 k1 = 99999999999: integer out of range");
 }
 
 TEST(ConfigurationFile, RejectsNonPositiveRadiiMassesAndInertia) {
@@ -384,8 +397,10 @@ TEST(ConfigurationFile, RejectsNonPositiveRadiiMassesAndInertia) {
 }
 
 TEST(ConfigurationFile, RejectsDisksOutsideTheCell) {
-  expect_rejected(replaced(23, "4 1.5 0.5 1 0.125 0 0 0 0"), 23, "disk 1: x = 4 is outside the periodic cell [0, 4)");
-  expect_rejected(replaced(22, "0.3 -0.001 0.5 1 0.125 0 0 0 0"), 22, "disk 0: y = -0.001 is outside the periodic cell [0, 3)");
+  expect_rejected(replaced(23, "4 1.5 0.5 1 0.125 0 0 0 0"), 23,
+                  "disk 1: x = 4 is outside the periodic cell [0, 4)");
+  expect_rejected(replaced(22, "0.3 -0.001 0.5 1 0.125 0 0 0 0"), 22,
+                  "disk 0: y = -0.001 is outside the periodic cell [0, 3)");
   // Walls: the centre must lie in the closed box; image shifts are meaningless.
   auto walls = base_lines;
   walls[5] = "boundary walls";
@@ -409,20 +424,25 @@ TEST(ConfigurationFile, RejectsBadContacts) {
   expect_rejected(replaced(26, "0 top 0 0 0 stick"), 26, "wall contact 'top' in a periodic cell");
   expect_rejected(replaced(26, "1 1 0 0 0 stick"), 26, "disk 1 in contact with itself");
   expect_rejected(replaced(26, "0 1 -1 0 0 slide"), 26, "contact 0 status: unknown value 'slide'");
-  expect_rejected(replaced(26, "0 1 -1 0 0 stick extra"), 26, "contact 0: trailing garbage 'extra'");
+  expect_rejected(replaced(26, "0 1 -1 0 0 stick extra"), 26,
+                  "contact 0: trailing garbage 'extra'");
   // A disk may touch its own image across the cell.
   EXPECT_NO_THROW(parse_configuration(replaced(26, "1 1 1 0 0 slide-"), "base.granstab"));
 }
 
 TEST(ConfigurationFile, RejectsUnknownVersionsKeywordsAndGarbage) {
-  expect_rejected(replaced(1, "granstab-configuration 2"), 1, "unknown format version '2' (this granstab reads version 1)");
+  expect_rejected(replaced(1, "granstab-configuration 2"), 1,
+                  "unknown format version '2' (this granstab reads version 1)");
   expect_rejected(replaced(1, "granstab-configuration"), 1, "expected 1 values, found 0");
   expect_rejected(replaced(1, "P1 4 4"), 1, "not a granstab configuration");
   expect_rejected(replaced(4, "stepp 7"), 4, "unknown keyword 'stepp' (expected 'step')");
   expect_rejected(replaced(3, "step 7"), 3, "expected 'time', found 'step'");
-  expect_rejected(replaced(7, "cell.length 4 3 5"), 7, "cell.length: trailing garbage '5' after 2 values");
-  expect_rejected(replaced(6, "boundary torus"), 6, "boundary: unknown value 'torus' (one of periodic, walls)");
-  expect_rejected(replaced(17, "stage.control stress strain"), 17, "stage.control[2]: unknown value 'strain'");
+  expect_rejected(replaced(7, "cell.length 4 3 5"), 7,
+                  "cell.length: trailing garbage '5' after 2 values");
+  expect_rejected(replaced(6, "boundary torus"), 6,
+                  "boundary: unknown value 'torus' (one of periodic, walls)");
+  expect_rejected(replaced(17, "stage.control stress strain"), 17,
+                  "stage.control[2]: unknown value 'strain'");
   expect_rejected(replaced(5, "rng_state 1 2 3"), 5, "rng_state: not a std::mt19937_64 state");
   auto extra = base_lines;
   extra.push_back("# comments and blank lines may follow 'end'");
@@ -437,7 +457,8 @@ TEST(ConfigurationFile, ValidatesCellAndMaterialAtTheirLines) {
   expect_rejected(replaced(9, "cell.mass 1 -1"), 9, "cell.mass2: must be finite and > 0");
   expect_rejected(replaced(13, "material.zeta 2"), 13, "material.zeta: must lie in [0, 1]");
   expect_rejected(replaced(11, "material.k_t -5"), 11, "material.k_t: must be finite and > 0");
-  expect_rejected(replaced(15, "stage.reference_length 4 0"), 15, "stage.reference_length[2] must be > 0");
+  expect_rejected(replaced(15, "stage.reference_length 4 0"), 15,
+                  "stage.reference_length[2] must be > 0");
 }
 
 TEST(ConfigurationFile, ReadingNamesTheFile) {
@@ -448,7 +469,8 @@ TEST(ConfigurationFile, ReadingNamesTheFile) {
     read_configuration(file);
     ADD_FAILURE() << "accepted a negative radius";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(file.string() + ":23: disk 1: radius", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(file.string() + ":23: disk 1: radius", 0), 0u)
+        << e.what();
   }
   EXPECT_THROW(read_configuration(dir.path() / "missing.granstab"), std::runtime_error);
 }

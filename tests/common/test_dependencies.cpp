@@ -43,7 +43,7 @@ TEST(Dependencies, CholmodSupernodalDetectsIndefinite) {
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> indefinite;
   indefinite.cholmod().print = 0;
   indefinite.compute(tridiagonal(50, 1.0) - 2.0 * tridiagonal(50, 1.0));  // negative definite
-  EXPECT_EQ(indefinite.info(), Eigen::NumericalIssue);  // DEPS.md #1, #2
+  EXPECT_EQ(indefinite.info(), Eigen::NumericalIssue);                    // DEPS.md #1, #2
 }
 
 TEST(Dependencies, UmfpackSolvesUnsymmetric) {
@@ -73,13 +73,20 @@ class TinyLp : public Ipopt::TNLP {
   double x_opt[2] = {0, 0};
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac, Ipopt::Index& nnz_h,
                     IndexStyleEnum& style) override {
-    n = 2; m = 2; nnz_jac = 4; nnz_h = 0; style = C_STYLE;
+    n = 2;
+    m = 2;
+    nnz_jac = 4;
+    nnz_h = 0;
+    style = C_STYLE;
     return true;
   }
   bool get_bounds_info(Ipopt::Index, Ipopt::Number* xl, Ipopt::Number* xu, Ipopt::Index,
                        Ipopt::Number* gl, Ipopt::Number* gu) override {
-    xl[0] = xl[1] = 0.0; xu[0] = xu[1] = 1e19;
-    gl[0] = gl[1] = -1e19; gu[0] = 4.0; gu[1] = 1.0;
+    xl[0] = xl[1] = 0.0;
+    xu[0] = xu[1] = 1e19;
+    gl[0] = gl[1] = -1e19;
+    gu[0] = 4.0;
+    gu[1] = 1.0;
     return true;
   }
   bool get_starting_point(Ipopt::Index, bool, Ipopt::Number* x, bool, Ipopt::Number*,
@@ -92,20 +99,31 @@ class TinyLp : public Ipopt::TNLP {
     return true;
   }
   bool eval_grad_f(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Number* g) override {
-    g[0] = -1.0; g[1] = 0.0;
+    g[0] = -1.0;
+    g[1] = 0.0;
     return true;
   }
   bool eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Number* g) override {
-    g[0] = x[0] + 2 * x[1]; g[1] = x[0] - x[1];
+    g[0] = x[0] + 2 * x[1];
+    g[1] = x[0] - x[1];
     return true;
   }
   bool eval_jac_g(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Index, Ipopt::Index,
                   Ipopt::Index* rows, Ipopt::Index* cols, Ipopt::Number* v) override {
     if (v == nullptr) {
-      rows[0] = 0; cols[0] = 0; rows[1] = 0; cols[1] = 1;
-      rows[2] = 1; cols[2] = 0; rows[3] = 1; cols[3] = 1;
+      rows[0] = 0;
+      cols[0] = 0;
+      rows[1] = 0;
+      cols[1] = 1;
+      rows[2] = 1;
+      cols[2] = 0;
+      rows[3] = 1;
+      cols[3] = 1;
     } else {
-      v[0] = 1; v[1] = 2; v[2] = 1; v[3] = -1;
+      v[0] = 1;
+      v[1] = 2;
+      v[2] = 1;
+      v[3] = -1;
     }
     return true;
   }
@@ -118,7 +136,8 @@ class TinyLp : public Ipopt::TNLP {
                          const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index,
                          const Ipopt::Number*, const Ipopt::Number*, Ipopt::Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    x_opt[0] = x[0]; x_opt[1] = x[1];
+    x_opt[0] = x[0];
+    x_opt[1] = x[1];
   }
 };
 

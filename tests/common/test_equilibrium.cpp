@@ -9,8 +9,9 @@ namespace {
 
 TEST(Equilibrium, ClosedFormSamplesAreInEquilibrium) {
   for (const double kappa : {1e3, 1e5}) {
-    for (const Configuration& c : {samples::triangular_lattice(kappa), samples::square_stack(3, kappa),
-                                   samples::square_stack(5, kappa)}) {
+    for (const Configuration& c :
+         {samples::triangular_lattice(kappa), samples::square_stack(3, kappa),
+          samples::square_stack(5, kappa)}) {
       const EquilibriumReport r = check_equilibrium(c);
       EXPECT_TRUE(r.in_equilibrium);
       // Round-off: the overlap h = R_i + R_j - d ~ 1/kappa comes from a cancellation, so forces
@@ -45,7 +46,8 @@ TEST(Equilibrium, TangentialForcesBreakTorqueBalance) {
   c.contacts.delta_t[0] = 1e-6;  // F_T = -1e-3 on one contact: torques ~5e-4 on its disks
   const EquilibriumReport r = check_equilibrium(c);
   EXPECT_FALSE(r.torque_ok);
-  EXPECT_NEAR(r.max_net_torque, 1e-3 * (0.5 - 0.5 * samples::triangular_lattice_overlap(1e3)), 1e-12);
+  EXPECT_NEAR(r.max_net_torque, 1e-3 * (0.5 - 0.5 * samples::triangular_lattice_overlap(1e3)),
+              1e-12);
   EXPECT_FALSE(r.in_equilibrium);
 }
 

@@ -97,17 +97,20 @@ TEST(FuzzRegressions, TomlCharactersThatTripTheLibraryAreRejectedWithTheirPlace)
             "run.toml:1:5: the character U+00E9 is only supported in string values and comments "
             "here (a bug of the TOML library, toml++ 3.3)");
   EXPECT_TRUE(error("x = 1\n[\"\xC3\xA9\"]\n").starts_with("run.toml:2:3: the character U+00E9"));
-  EXPECT_TRUE(error("s = \"\"\"\\\n  \xC2\xA7\"\"\"\n").starts_with("run.toml:2:3: the character U+00A7"));
-  EXPECT_TRUE(error("s = \"\"\"\\\xC2\xA7\"\"\"\n").starts_with("run.toml:1:9: the character U+00A7"));
+  EXPECT_TRUE(
+      error("s = \"\"\"\\\n  \xC2\xA7\"\"\"\n").starts_with("run.toml:2:3: the character U+00A7"));
+  EXPECT_TRUE(
+      error("s = \"\"\"\\\xC2\xA7\"\"\"\n").starts_with("run.toml:1:9: the character U+00A7"));
   EXPECT_TRUE(error("x = 1\xC6\xA0\n").starts_with("run.toml:1:6: the character U+01A0"));
   EXPECT_TRUE(error("x = tru\xC3\xA9\n").starts_with("run.toml:1:8: the character U+00E9"));
-  EXPECT_TRUE(error("a = { \"\xC3\xA9\" = 1 }\n").starts_with("run.toml:1:8: the character U+00E9"));
+  EXPECT_TRUE(
+      error("a = { \"\xC3\xA9\" = 1 }\n").starts_with("run.toml:1:8: the character U+00E9"));
 }
 
 TEST(FuzzRegressions, OverridesThatTripTheLibraryAreTakenAsBareStrings) {
   RunConfig rc = RunConfig::from_string("", "run.toml", {"x=1\xC6\xA0", "y=\"\xC3\xA9\""});
   EXPECT_EQ(rc.string("x", ""), "1\xC6\xA0");  // not TOML: a bare word, as any other
-  EXPECT_EQ(rc.string("y", ""), "\xC3\xA9");    // a TOML string value: read as TOML
+  EXPECT_EQ(rc.string("y", ""), "\xC3\xA9");   // a TOML string value: read as TOML
 }
 
 TEST(FuzzRegressions, NonAsciiTextInStringValuesAndCommentsIsStillRead) {

@@ -54,8 +54,8 @@ TEST(Measurements, SquareStackStressEqualsWallForcesPerLength) {
   EXPECT_NEAR(m.sigma[1][1], 1.0, 1e-12);
   // The second measure of SPEC §2: wall forces over wall lengths agree with the contact sum.
   const auto walls = wall_forces(c, contact_loads(c));
-  EXPECT_NEAR(walls[0], wall_force, 1e-12);  // left
-  EXPECT_NEAR(walls[1], wall_force, 1e-12);  // right
+  EXPECT_NEAR(walls[0], wall_force, 1e-12);                        // left
+  EXPECT_NEAR(walls[1], wall_force, 1e-12);                        // right
   EXPECT_NEAR(walls[3] / c.cell.length[0], m.sigma[1][1], 1e-12);  // top
   EXPECT_NEAR(walls[2] / c.cell.length[0], m.sigma[1][1], 1e-12);  // bottom
   // Corner disks touch two walls and two disks: every disk has 4 contacts.
@@ -66,7 +66,8 @@ TEST(Measurements, SquareStackStressEqualsWallForcesPerLength) {
 }
 
 // Two disks in contact: radii 0.5 and 0.45, branch (0.54, 0.72), d = 0.9, h = 0.05, with a
-// tangential elastic displacement. Placed in the cell interior, across x = L1, and across the corner.
+// tangential elastic displacement. Placed in the cell interior, across x = L1, and across the
+// corner.
 struct PairCase {
   double xi, yi;
   int k1, k2;
@@ -87,8 +88,9 @@ Configuration pair_configuration(const PairCase& p) {
 TEST(Measurements, PairStressIsTheSameAcrossPeriodicBoundaries) {
   const double area = 20.0, d = 0.9, nx = 0.6, ny = 0.8, tx = -0.8, ty = 0.6;
   const double f_n = 1e3 * 0.05, f_t = -0.5e3 * 2e-3;
-  const double hand[2][2] = {{(f_n * nx + f_t * tx) * d * nx / area, (f_n * nx + f_t * tx) * d * ny / area},
-                             {(f_n * ny + f_t * ty) * d * nx / area, (f_n * ny + f_t * ty) * d * ny / area}};
+  const double hand[2][2] = {
+      {(f_n * nx + f_t * tx) * d * nx / area, (f_n * nx + f_t * tx) * d * ny / area},
+      {(f_n * ny + f_t * ty) * d * nx / area, (f_n * ny + f_t * ty) * d * ny / area}};
   for (const PairCase& p : {PairCase{2.0, 2.0, 0, 0}, PairCase{4.8, 2.0, 1, 0},
                             PairCase{4.8, 3.7, 1, 1}, PairCase{2.0, 3.5, 0, 1}}) {
     const Configuration c = pair_configuration(p);
@@ -97,7 +99,8 @@ TEST(Measurements, PairStressIsTheSameAcrossPeriodicBoundaries) {
     const StressTensor s = stress_tensor(c, contact_loads(c));
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
-        EXPECT_NEAR(s[a][b], hand[a][b], 1e-12) << "pair at " << p.xi << ", " << p.yi << " sigma" << a + 1 << b + 1;
+        EXPECT_NEAR(s[a][b], hand[a][b], 1e-12)
+            << "pair at " << p.xi << ", " << p.yi << " sigma" << a + 1 << b + 1;
     // Listing the contact as (j, i) with the opposite image flips both f and l.
     Configuration swapped = c;
     swapped.contacts.clear();
@@ -193,9 +196,9 @@ TEST(Measurements, WallContactsCountForTheirDisk) {
   c.cell.boundary = Boundary::walls;
   c.cell.length = {3.0, 3.0};
   c.material = Material::from_kappa(1e3, 0.5, 0.25, 1.0);
-  c.disks.add(0.49, 0.49, 0.5);        // touches the left and bottom walls
+  c.disks.add(0.49, 0.49, 0.5);         // touches the left and bottom walls
   c.disks.add(0.49 + 0.98, 0.49, 0.5);  // touches disk 0 only (the bottom wall: no, 0.49 < 0.5!)
-  c.disks.y[1] = 0.52;                 // lift it off the bottom wall
+  c.disks.y[1] = 0.52;                  // lift it off the bottom wall
   c.disks.x[1] = 0.49 + std::sqrt(0.98 * 0.98 - 0.03 * 0.03);
   samples::add_contacts_by_geometry(c);
   ASSERT_EQ(c.contacts.size(), 3u);

@@ -62,7 +62,8 @@ TEST(RunConfig, OutOfRangeValuesNameFileAndKey) {
   EXPECT_EQ(error_of([&] { rc.number("biaxial.mu", 0.5, 0.0, 1.0); }),
             "run.toml: biaxial.mu = 2.5: must be <= 1");
   RunConfig nan = RunConfig::from_string("x = nan\n", "run.toml");
-  EXPECT_EQ(error_of([&] { nan.number("x", 0.0, -1.0, 1.0); }), "run.toml: x = nan: must be finite");
+  EXPECT_EQ(error_of([&] { nan.number("x", 0.0, -1.0, 1.0); }),
+            "run.toml: x = nan: must be finite");
 }
 
 TEST(RunConfig, WrongTypesAreErrors) {
@@ -75,7 +76,9 @@ TEST(RunConfig, WrongTypesAreErrors) {
   EXPECT_EQ(error_of([&] { rc.boolean("record", false); }),
             "run.toml: record = 1: must be true or false");
   EXPECT_EQ(error_of([&] { rc.string("mode", "SRC"); }), "run.toml: mode = 3: must be a string");
-  EXPECT_EQ(error_of([&] { rc.choice("choice", "SRC", {"SRC", "SIC"}); }),
+  EXPECT_EQ(error_of([&] {
+              rc.choice("choice", "SRC", {"SRC", "SIC"});
+            }),
             "run.toml: choice = \"XYZ\": must be one of SRC, SIC");
   RunConfig table = RunConfig::from_string("biaxial = 3\n", "run.toml");
   EXPECT_EQ(error_of([&] { table.number("biaxial.gamma", 0.0, 0.0, 1.0); }),
@@ -83,8 +86,8 @@ TEST(RunConfig, WrongTypesAreErrors) {
 }
 
 TEST(RunConfig, UnknownKeysAreAllNamed) {
-  RunConfig rc = RunConfig::from_string(settings + std::string("gama = 1\n[extra]\n[output]\nname = \"x\"\n"),
-                                        "run.toml");
+  RunConfig rc = RunConfig::from_string(
+      settings + std::string("gama = 1\n[extra]\n[output]\nname = \"x\"\n"), "run.toml");
   rc.number("material.mu", 0.3, 0.0, 1.0);
   rc.number("material.kappa", 1e3, 1.0, 1e9);
   rc.number("biaxial.gamma", 1e-3, 0.0, 1.0);
@@ -112,10 +115,12 @@ TEST(RunConfig, CommandLineOverridesApplyOverTheFile) {
   // An override of a key no getter reads is an unknown key like any other.
   RunConfig typo = RunConfig::from_string("", "run.toml", {"materail.mu=0.3"});
   EXPECT_NE(error_of([&] { typo.finish(); }).find("materail.mu"), std::string::npos);
-  EXPECT_NE(error_of([&] { RunConfig::from_string("", "run.toml", {"novalue"}); }).find("key=value"),
-            std::string::npos);
-  EXPECT_NE(error_of([&] { RunConfig::from_string("a = 1\n", "run.toml", {"a.b=2"}); })
-                .find("a is not a table"),
+  EXPECT_NE(
+      error_of([&] { RunConfig::from_string("", "run.toml", {"novalue"}); }).find("key=value"),
+      std::string::npos);
+  EXPECT_NE(error_of([&] {
+              RunConfig::from_string("a = 1\n", "run.toml", {"a.b=2"});
+            }).find("a is not a table"),
             std::string::npos);
 }
 
@@ -127,7 +132,8 @@ TEST(RunConfig, ParseErrorsGiveFileAndLine) {
 
 TEST(RunConfig, PathsFromTheFileAreRelativeToIt) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("granstab-rc-" + std::to_string(std::random_device{}()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("granstab-rc-" + std::to_string(std::random_device{}()));
   fs::create_directories(dir);
   const fs::path file = dir / "run.toml";
   std::ofstream(file) << "sample = \"samples/a.granstab\"\nabsolute = \"/x/y\"\nempty = \"\"\n";

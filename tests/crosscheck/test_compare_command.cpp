@@ -131,7 +131,7 @@ TEST(CompareCommandErrors, BadInputGivesAClearErrorAndNoOutput) {
   const fs::path& root = dir.path();
   // A missing sample.
   CommandResult r = dir.run("compare '" + (root / "missing.granstab").string() +
-                                  "' --dq 0.01 --out '" + (root / "a").string() + "'");
+                            "' --dq 0.01 --out '" + (root / "a").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("missing.granstab"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(root / "a"));
@@ -142,7 +142,7 @@ TEST(CompareCommandErrors, BadInputGivesAClearErrorAndNoOutput) {
   text.replace(at, 20, "stage.sigma_ext 1 1.5\n");
   std::ofstream(root / "aniso.granstab") << text;
   r = dir.run("compare '" + (root / "aniso.granstab").string() + "' --dq 0.01 --out '" +
-                    (root / "b").string() + "'");
+              (root / "b").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("sigma_ext"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(root / "b"));
@@ -151,7 +151,7 @@ TEST(CompareCommandErrors, BadInputGivesAClearErrorAndNoOutput) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_FALSE(fs::exists(root / "c"));
   r = dir.run("compare '" + sample.string() + "' --dq 0.01 --mu -0.2 --out '" +
-                    (root / "d").string() + "'");
+              (root / "d").string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_FALSE(fs::exists(root / "d"));
   // plot on a directory without compare.json.

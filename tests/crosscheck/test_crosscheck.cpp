@@ -146,9 +146,9 @@ TEST(StaticVsDynamic, AgreeWithinTheToleranceBoundAndTightenWithTheTolerance) {
   const Comparison& a = loose.comparison;
   const Comparison& b = tight.comparison;
   std::cout << "eps2 difference: " << a.max_abs_diff_eps2 << " (tolerances 1e-4, bound "
-            << a.points[0].bound_eps2 << "), " << b.max_abs_diff_eps2
-            << " (tolerances 1e-6, bound " << b.points[0].bound_eps2 << "); eps_v difference: "
-            << a.max_abs_diff_epsv << ", " << b.max_abs_diff_epsv << "\n";
+            << a.points[0].bound_eps2 << "), " << b.max_abs_diff_eps2 << " (tolerances 1e-6, bound "
+            << b.points[0].bound_eps2 << "); eps_v difference: " << a.max_abs_diff_epsv << ", "
+            << b.max_abs_diff_epsv << "\n";
   // Tolerances 100 times smaller: the differences must shrink by at least 10 (they are of the
   // order of the tolerance, not of a model mismatch, which would not depend on it).
   EXPECT_LT(b.max_abs_diff_eps2, 0.1 * a.max_abs_diff_eps2);

@@ -33,7 +33,10 @@ std::array<double, 2> load(double mu, double mass_factor, int increments, int wa
   EXPECT_TRUE(testing::run_to_equilibrium(*e, 1e-6, 1e-6, 3000000));
   std::array<double, 2> strain;
   for (int a = 0; a < 2; ++a) strain[a] = 1.0 - e->length()[a] / c.cell.length[a];
-  if (keep) *keep = e; else delete e;
+  if (keep)
+    *keep = e;
+  else
+    delete e;
   return strain;
 }
 
@@ -57,8 +60,8 @@ void expect_mass_independent(double mu, int increments, int wait, double rel_tol
   for (double factor : {0.1, 10.0}) {
     const std::array<double, 2> strain = load(mu, factor, increments, wait);
     for (int a = 0; a < 2; ++a) {
-      std::printf("mu %.1f, mass x %g: epsilon_%d = %.8e (default mass: %.8e)\n", mu, factor,
-                  a + 1, strain[a], reference[a]);
+      std::printf("mu %.1f, mass x %g: epsilon_%d = %.8e (default mass: %.8e)\n", mu, factor, a + 1,
+                  strain[a], reference[a]);
       EXPECT_NEAR(strain[a], reference[a], rel_tol * std::abs(reference[1]))
           << "mass factor " << factor;
     }
@@ -105,13 +108,14 @@ TEST(StrainRateControl, FollowsPrescribedLength) {
   }
   EXPECT_LT(max_err, 1e-12);  // L2(t) = L20 (1 - rate t) up to round-off
   EXPECT_LT(e.length()[1], l20 * (1.0 - 0.5 * rate * (e.time() - t0)));
-  EXPECT_NE(e.length()[0], l10);            // axis 1 is free to move under stress control
-  EXPECT_GT(e.stress()[1][1], 1.0);         // compressing along 2 raises sigma_2
-  EXPECT_LT(max_sigma1_err, 0.1);           // sigma_1 stays near P (dynamic, gamma ~ 1e-3)
-  std::printf("strain-rate control: max |L2 - L2(t)| / L20 = %.2e, max |sigma_1 - 1| = %.3f, "
-              "q = %.4f at epsilon_2 = %.4f\n",
-              max_err, max_sigma1_err, e.stress()[1][1] / e.stress()[0][0] - 1.0,
-              1.0 - e.length()[1] / l20);
+  EXPECT_NE(e.length()[0], l10);     // axis 1 is free to move under stress control
+  EXPECT_GT(e.stress()[1][1], 1.0);  // compressing along 2 raises sigma_2
+  EXPECT_LT(max_sigma1_err, 0.1);    // sigma_1 stays near P (dynamic, gamma ~ 1e-3)
+  std::printf(
+      "strain-rate control: max |L2 - L2(t)| / L20 = %.2e, max |sigma_1 - 1| = %.3f, "
+      "q = %.4f at epsilon_2 = %.4f\n",
+      max_err, max_sigma1_err, e.stress()[1][1] / e.stress()[0][0] - 1.0,
+      1.0 - e.length()[1] / l20);
 }
 
 TEST(FixedControl, LengthsDoNotMove) {

@@ -97,11 +97,11 @@ TEST(TangentialLaw, RigidRotationOfAPairIsObjective) {
     const double turned = omega * e.time();
     const double d = 1.0 - h;
     const double non_objective = 1e4 * d * turned;  // |F_T| if the pair's rotation were missed
-    const double f_t = std::hypot(e.force_x(1), e.force_y(1)) > 0.0
-                           ? (-e.force_x(1) * (e.y()[1] - e.y()[0]) +
-                              e.force_y(1) * (e.x()[1] - e.x()[0])) /
-                                 std::hypot(e.x()[1] - e.x()[0], e.y()[1] - e.y()[0])
-                           : 0.0;
+    const double f_t =
+        std::hypot(e.force_x(1), e.force_y(1)) > 0.0
+            ? (-e.force_x(1) * (e.y()[1] - e.y()[0]) + e.force_y(1) * (e.x()[1] - e.x()[0])) /
+                  std::hypot(e.x()[1] - e.x()[0], e.y()[1] - e.y()[0])
+            : 0.0;
     if (translate) {
       // Straight-line motion departs from the circle at O(turned^3): |F_T| stays below
       // 1e-3 of what a frame that does not rotate with the contact would give.
@@ -138,8 +138,8 @@ PairRun run_pair(double shift_x, double shift_y) {
   double lx = e.x()[1] - e.x()[0], ly = e.y()[1] - e.y()[0];
   lx -= l * std::nearbyint(lx / l);
   ly -= l * std::nearbyint(ly / l);
-  return {lx, ly, e.vx()[1], e.vy()[1], e.omega()[0], e.omega()[1], e.force_x(1), e.force_y(1),
-          e.torque(1), out.contacts.delta_t.at(0)};
+  return {lx,           ly,           e.vx()[1],    e.vy()[1],   e.omega()[0],
+          e.omega()[1], e.force_x(1), e.force_y(1), e.torque(1), out.contacts.delta_t.at(0)};
 }
 
 TEST(PeriodicImages, PairAcrossBoundariesEqualsPairInside) {

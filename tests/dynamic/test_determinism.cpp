@@ -13,8 +13,8 @@ namespace {
 // A violent run: a gas of 400 disks (7 reduction blocks of 64) compressed under stress
 // control with friction and damping, with many contact changes and neighbour-list rebuilds.
 Configuration gas(Boundary boundary = Boundary::periodic) {
-  Configuration c = testing::random_gas(400, 0.2, Material::from_kappa(1e3, 1.0, 0.3, 0.7), 21,
-                                        boundary);
+  Configuration c =
+      testing::random_gas(400, 0.2, Material::from_kappa(1e3, 1.0, 0.3, 0.7), 21, boundary);
   c.stage.control = {LengthControl::stress, LengthControl::stress};
   c.stage.sigma_ext = {1.0, 1.3};
   for (double& m : c.cell.mass) m *= 0.01;  // a light cell: a fast collapse
@@ -86,8 +86,7 @@ TEST(Determinism, OneAndTwoThreadsAgree) {
 TEST(Determinism, ParallelThresholdDoesNotChangeBits) {
   const Configuration start = gas();
   ASSERT_LT(start.disks.size(), EngineOptions{}.parallel_min_disks);
-  expect_identical(run(start, 2, 1500, 0, team_options()),
-                   run(start, 2, 1500, 0, EngineOptions{}));
+  expect_identical(run(start, 2, 1500, 0, team_options()), run(start, 2, 1500, 0, EngineOptions{}));
 }
 
 // One thread: the thread count is irrelevant to the bits (above), and 2 threads on a loaded

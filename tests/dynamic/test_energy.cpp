@@ -43,9 +43,10 @@ TEST(Energy, ConservedWithoutDissipation) {
     contact_changes += e.contact_count() != contacts0;
   }
   const double drift = std::abs(last - first) / e0;
-  std::printf("energy: max |E - E0| / E0 = %.2e, drift (last vs first 10%%) = %.2e, "
-              "%zu of %d samples with a changed contact count\n",
-              max_dev, drift, contact_changes, samples);
+  std::printf(
+      "energy: max |E - E0| / E0 = %.2e, drift (last vs first 10%%) = %.2e, "
+      "%zu of %d samples with a changed contact count\n",
+      max_dev, drift, contact_changes, samples);
   EXPECT_GT(contact_changes, 0u);  // the contact network did change
   // Measured at the default dt (2026-11-22): max deviation 7.0e-5, drift 5.5e-6. Bounds with
   // margin for compiler/platform round-off: bounded fluctuation, no secular drift.

@@ -62,7 +62,7 @@ TEST(NeighbourList, NoContactMissedWhileTheCellDeforms) {
     expect_all_contacts_found(e);
     max_contacts = std::max(max_contacts, e.contact_count());
   }
-  EXPECT_GT(max_contacts, 300u);         // the sample did become dense
+  EXPECT_GT(max_contacts, 300u);           // the sample did become dense
   EXPECT_GT(e.neighbour_rebuilds(), 20u);  // and the list was rebuilt along the way
   // Then shear it fast: axis 2 compressed at a strain rate of 1e-2, axis 1 under stress.
   e.set_reference_lengths_to_current();

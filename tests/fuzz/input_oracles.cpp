@@ -46,7 +46,8 @@ std::string located_message_problem(std::string_view message, std::string_view s
     rest.remove_prefix(1);
     if (leading_number(rest) < 1) return "message names no column: " + quoted;
   }
-  if (!rest.starts_with(": ") || rest.size() <= 2) return "message has no text after the place: " + quoted;
+  if (!rest.starts_with(": ") || rest.size() <= 2)
+    return "message has no text after the place: " + quoted;
   return {};
 }
 
@@ -108,7 +109,8 @@ std::string run_config_violation(std::string_view input) {
   } catch (const std::invalid_argument& e) {
     const std::string_view message = e.what();
     if (!message.starts_with(source + ": ") && !message.starts_with("command line"))
-      return "a setting error names neither the file nor the command line: '" + std::string(message) + "'";
+      return "a setting error names neither the file nor the command line: '" +
+             std::string(message) + "'";
     return {};
   } catch (const std::exception& e) {
     return unexpected("RunConfig", e);

@@ -90,8 +90,8 @@ TEST(StressIncrementControlled, EveryRecordedStateIsAnEquilibriumWithoutSlidingC
         EXPECT_NEAR(s.stage.sigma_ext[1], 1.0 + r.q_target, 1e-12);
         const Measurements m = measure(s);
         EXPECT_NEAR(m.q, r.q_target, 3e-4) << "both stresses within 1e-4 of their targets";
-        EXPECT_EQ(m.n_sliding, 0u) << "SPEC §6: no sliding contact in SIC equilibrium states, q = "
-                                   << r.q_target;
+        EXPECT_EQ(m.n_sliding, 0u)
+            << "SPEC §6: no sliding contact in SIC equilibrium states, q = " << r.q_target;
       });
   EXPECT_EQ(result.stop_reason, "q_max");
   EXPECT_EQ(result.increments, 5);

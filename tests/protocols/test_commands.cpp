@@ -62,7 +62,7 @@ vtk = "snap"
   const auto r = dir.run("biaxial src.toml");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("biaxial SRC: done"), std::string::npos) << r.err;  // progress
-  EXPECT_EQ(lines(testing::slurp(dir / "src.csv")), 6u);  // header + 0 + 4 records
+  EXPECT_EQ(lines(testing::slurp(dir / "src.csv")), 6u);                   // header + 0 + 4 records
   EXPECT_TRUE(std::filesystem::exists(dir / "snap_final.vtu"));
   EXPECT_NE(testing::slurp(dir / "src.json").find("\"control\": \"strain-rate\""),
             std::string::npos);
@@ -147,31 +147,36 @@ TEST_P(BadSettings, FailWithAClearErrorAndWriteNothing) {
 }
 
 const std::string input = "[input]\nsample = \"" + sample + "\"\n";
-const std::string prepare_ok = "[sample]\nn = 20\n[output]\nsample = \"s.granstab\"\ncsv = \"s.csv\"\n";
+const std::string prepare_ok =
+    "[sample]\nn = 20\n[output]\nsample = \"s.granstab\"\ncsv = \"s.csv\"\n";
 
 INSTANTIATE_TEST_SUITE_P(
     Protocols, BadSettings,
     ::testing::Values(
-        BadCase{"prepare", prepare_ok + "[compaction]\nstrain_rte = 0.1\n", "compaction.strain_rte"},
+        BadCase{"prepare", prepare_ok + "[compaction]\nstrain_rte = 0.1\n",
+                "compaction.strain_rte"},
         BadCase{"prepare", prepare_ok + "[material]\nmu = -0.1\n", "material.mu"},
         BadCase{"prepare", prepare_ok + "[material]\nzeta = 1.5\n", "material.zeta"},
         BadCase{"prepare", prepare_ok + "[material]\nzeta = -0.5\n", "material.zeta"},
         BadCase{"biaxial", input + "[biaxial]\ngamma = -1e-4\n[output]\ncsv = \"x.csv\"\n",
                 "biaxial.gamma"},
-        BadCase{"biaxial",
-                input + "[biaxial]\ncontrol = \"strain-rate\"\ndelta_q = 0.1\n[output]\ncsv = \"x.csv\"\n",
-                "biaxial.delta_q"},
+        BadCase{
+            "biaxial",
+            input +
+                "[biaxial]\ncontrol = \"strain-rate\"\ndelta_q = 0.1\n[output]\ncsv = \"x.csv\"\n",
+            "biaxial.delta_q"},
         BadCase{"biaxial", input + "[material]\nmu = -1\n[output]\ncsv = \"x.csv\"\n",
                 "material.mu"},
         BadCase{"biaxial", "[input]\nsample = \"missing.granstab\"\n[output]\ncsv = \"x.csv\"\n",
                 "input.sample"},
-        BadCase{"creep", input + "[creep]\nat_q = 0.5\nat_epsilon_2 = 0.01\n[output]\ncsv = \"x.csv\"\n",
+        BadCase{"creep",
+                input + "[creep]\nat_q = 0.5\nat_epsilon_2 = 0.01\n[output]\ncsv = \"x.csv\"\n",
                 "exactly one of"},
         BadCase{"creep", input + "[creep]\ngamma = 0\nat_q = 0.5\n[output]\ncsv = \"x.csv\"\n",
                 "creep.gamma"},
-        BadCase{"perturb", input + "[perturb]\nf0 = -1\n[output]\ncsv = \"x.csv\"\n",
-                "perturb.f0"},
-        BadCase{"perturb", "[input]\nsample = \"nowhere/none.granstab\"\n[output]\ncsv = \"x.csv\"\n",
+        BadCase{"perturb", input + "[perturb]\nf0 = -1\n[output]\ncsv = \"x.csv\"\n", "perturb.f0"},
+        BadCase{"perturb",
+                "[input]\nsample = \"nowhere/none.granstab\"\n[output]\ncsv = \"x.csv\"\n",
                 "no such file"}),
     [](const ::testing::TestParamInfo<BadCase>& info) {
       return std::string(info.param.command) + std::to_string(info.index);

@@ -39,7 +39,9 @@ TEST(JsonSummary, NestedObjectsAndNonFiniteNumbers) {
   protocols::JsonObject inner;
   inner.add("x", 1.5).add("ok", true);
   protocols::JsonObject o;
-  o.add("name", "a \"quoted\" name").add("inner", inner).add("values", std::vector<double>{1.0, NAN});
+  o.add("name", "a \"quoted\" name")
+      .add("inner", inner)
+      .add("values", std::vector<double>{1.0, NAN});
   EXPECT_EQ(o.text(),
             "{\n"
             "  \"name\": \"a \\\"quoted\\\" name\",\n"

@@ -57,10 +57,14 @@ TEST(Prepare, ReachesEquilibriumCriterion) {
 TEST(Prepare, SameSeedSameBitsOtherSeedOtherSample) {
   Workdir dir("prepare-seed");
   testing::spit(dir / "prepare.toml", tiny_prepare);
-  ASSERT_EQ(dir.run("prepare --quiet prepare.toml --set output.sample='\"a.granstab\"'").exit_code, 0);
-  ASSERT_EQ(dir.run("prepare --quiet prepare.toml --set output.sample='\"b.granstab\"'").exit_code, 0);
+  ASSERT_EQ(dir.run("prepare --quiet prepare.toml --set output.sample='\"a.granstab\"'").exit_code,
+            0);
+  ASSERT_EQ(dir.run("prepare --quiet prepare.toml --set output.sample='\"b.granstab\"'").exit_code,
+            0);
   ASSERT_EQ(dir.run("prepare --quiet prepare.toml --set sample.seed=8 "
-                    "--set output.sample='\"c.granstab\"'").exit_code, 0);
+                    "--set output.sample='\"c.granstab\"'")
+                .exit_code,
+            0);
   const std::string a = testing::slurp(dir / "a.granstab");
   EXPECT_FALSE(a.empty());
   EXPECT_EQ(a, testing::slurp(dir / "b.granstab"));
@@ -70,9 +74,10 @@ TEST(Prepare, SameSeedSameBitsOtherSeedOtherSample) {
 TEST(Prepare, WalledSampleReachesEquilibriumWithAgreeingWallStress) {
   Workdir dir("prepare-walls");
   testing::spit(dir / "prepare.toml", tiny_prepare);
-  const auto r = dir.run("prepare --quiet prepare.toml --set sample.boundary=walls "
-                         "--set material.mu=0 --set material.kt_over_kn=0.5 "
-                         "--set compaction.strain_rate=0.01");
+  const auto r = dir.run(
+      "prepare --quiet prepare.toml --set sample.boundary=walls "
+      "--set material.mu=0 --set material.kt_over_kn=0.5 "
+      "--set compaction.strain_rate=0.01");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Configuration c = read_configuration(dir / "tiny.granstab");
   EXPECT_FALSE(c.cell.periodic());

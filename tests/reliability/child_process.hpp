@@ -21,9 +21,9 @@ namespace granstab::testing {
 
 class Child {
  public:
-  // Runs the built granstab (granstab_exe()) with args in dir, one OpenMP thread, stderr to dir/../stderr.log.
-  Child(const std::filesystem::path& dir, const std::vector<std::string>& args,
-        int threads = 1) {
+  // Runs the built granstab (granstab_exe()) with args in dir, one OpenMP thread, stderr to
+  // dir/../stderr.log.
+  Child(const std::filesystem::path& dir, const std::vector<std::string>& args, int threads = 1) {
     const std::string log = (dir.parent_path() / "stderr.log").string();
     pid_ = ::fork();
     if (pid_ < 0) throw std::runtime_error("fork failed");

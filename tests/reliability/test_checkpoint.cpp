@@ -23,9 +23,14 @@ std::string value_name(std::size_t k) {
 }
 
 TEST(Checkpoint, ValuesReadBackToTheSameBits) {
-  const double values[] = {0.1, 1.0 / 3.0, -2.5e-310, 1e300, -0.0,
+  const double values[] = {0.1,
+                           1.0 / 3.0,
+                           -2.5e-310,
+                           1e300,
+                           -0.0,
                            std::numeric_limits<double>::max(),
-                           std::numeric_limits<double>::denorm_min(), 0.30000000000000004};
+                           std::numeric_limits<double>::denorm_min(),
+                           0.30000000000000004};
   Checkpoint c;
   for (std::size_t k = 0; k < std::size(values); ++k) {
     c.set_number(value_name(k), values[k]);

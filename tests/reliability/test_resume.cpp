@@ -141,16 +141,14 @@ TEST(Resume, PrepareKilledFourTimesEndsIdentical) {
 TEST(Resume, PrepareWithStrainRatePhaseKilledEndsIdentical) {
   // Kill points in the strain-rate phase (checkpoints every 300 steps) and in the stress phase.
   const int kills = compare_killed_with_uninterrupted(
-      {"prepare",
-       prepare_settings + "[compaction]\nstrain_rate = 0.05\n",
-       "tiny.checkpoint"},
+      {"prepare", prepare_settings + "[compaction]\nstrain_rate = 0.05\n", "tiny.checkpoint"},
       {1, 4, 10, 10});
   EXPECT_GE(kills, 2);
 }
 
 TEST(Resume, BiaxialStrainRateKilledEndsIdentical) {
-  const int kills = compare_killed_with_uninterrupted(
-      {"biaxial", "[input]\nsample = \"" + sample + "\"\n" + R"(
+  const int kills =
+      compare_killed_with_uninterrupted({"biaxial", "[input]\nsample = \"" + sample + "\"\n" + R"(
 [biaxial]
 control = "strain-rate"
 gamma = 1e-3
@@ -163,14 +161,14 @@ save_every = 1e-3
 [checkpoint]
 every_steps = 150
 )",
-       "src.checkpoint"},
-      {2, 3, 5, 4});
+                                         "src.checkpoint"},
+                                        {2, 3, 5, 4});
   EXPECT_GE(kills, 2);
 }
 
 TEST(Resume, BiaxialStressStepsKilledEndsIdentical) {
-  const int kills = compare_killed_with_uninterrupted(
-      {"biaxial", "[input]\nsample = \"" + sample + "\"\n" + R"(
+  const int kills =
+      compare_killed_with_uninterrupted({"biaxial", "[input]\nsample = \"" + sample + "\"\n" + R"(
 [material]
 mu = 0.5
 [biaxial]
@@ -184,8 +182,8 @@ save_every = 0.1
 [checkpoint]
 every_steps = 400
 )",
-       "sic.checkpoint"},
-      {1, 3, 2, 4});
+                                         "sic.checkpoint"},
+                                        {1, 3, 2, 4});
   EXPECT_GE(kills, 2);
 }
 

@@ -111,8 +111,7 @@ TEST(Sanity, AProtocolLoopWithGuardHooksStopsOnANanForce) {
   protocols::LoopControl control;
   control.hooks.check = [&](const Engine& engine) { guard.check(engine); };
   Configuration state;
-  EXPECT_THROW(protocols::run_to_equilibrium(e, {}, state, {}, fx, fy, control),
-               protocols::BlewUp);
+  EXPECT_THROW(protocols::run_to_equilibrium(e, {}, state, {}, fx, fy, control), protocols::BlewUp);
   EXPECT_FALSE(std::filesystem::exists(settings.checkpoint));  // nothing sane was kept
 }
 

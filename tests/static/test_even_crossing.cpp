@@ -44,7 +44,8 @@ SparseMatrix blocks(const std::vector<std::array<double, 3>>& rotation,
 void expect_counts(const SparseMatrix& k, int symmetric, int real) {
   LuFactor lu;
   ASSERT_TRUE(lu.factorize(k));
-  for (const LuFactor* factor : {static_cast<const LuFactor*>(&lu), static_cast<const LuFactor*>(nullptr)}) {  // Arnoldi, dense
+  for (const LuFactor* factor : {static_cast<const LuFactor*>(&lu),
+                                 static_cast<const LuFactor*>(nullptr)}) {  // Arnoldi, dense
     const NegativeEigenvalues e = negative_eigenvalues(k, factor);
     ASSERT_TRUE(e.ok);
     EXPECT_EQ(e.symmetric, symmetric) << (factor ? "arnoldi" : "dense");

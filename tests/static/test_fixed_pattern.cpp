@@ -36,8 +36,8 @@ TEST(FixedPattern, SameValuesAndStatusIndependentPattern) {
     EXPECT_EQ((sparse - full).cwiseAbs().maxCoeff(), 0.0);
   }
   // The default pattern follows the statuses (the test would not see a regression otherwise).
-  EXPECT_FALSE(same_pattern(assemble_tangent(net, states, stick),
-                            assemble_tangent(net, states, mixed)));
+  EXPECT_FALSE(
+      same_pattern(assemble_tangent(net, states, stick), assemble_tangent(net, states, mixed)));
   const SparseMatrix a = assemble_tangent(net, states, stick, fixed);
   const SparseMatrix b = assemble_tangent(net, states, mixed, fixed);
   ASSERT_TRUE(same_pattern(a, b));

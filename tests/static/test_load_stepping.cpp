@@ -77,8 +77,8 @@ TEST(KappaScaling, LatticeStrainsAndQ1Converge) {
     ASSERT_GT(r.curve.size(), 40u);
     EXPECT_NEAR(r.curve[40].q, 2.0, 1e-9);
     kappa_eps2.push_back(kappa * r.curve[40].eps2);
-    std::printf("kappa %.0e: q1 = %.8f (rigid limit %.8f), kappa eps2(q = 2) = %.6f\n", kappa,
-                r.q1, rigid, kappa_eps2.back());
+    std::printf("kappa %.0e: q1 = %.8f (rigid limit %.8f), kappa eps2(q = 2) = %.6f\n", kappa, r.q1,
+                rigid, kappa_eps2.back());
   }
   // Errors of order 1/kappa: each decade of kappa gains about a decade.
   EXPECT_LT(q1_error[1], 0.2 * q1_error[0]);
@@ -148,7 +148,8 @@ TEST(Control, StrainControlGivesTheStressControlledCurve) {
   const double kappa = 1e4;
   const StabilityResult stress = lattice_run(kappa, Control::stress, 0.02, INFINITY);
   const double eps2_max = stress.curve.back().eps2;
-  const StabilityResult strain = lattice_run(kappa, Control::strain, eps2_max / 200.0, 0.99 * eps2_max);
+  const StabilityResult strain =
+      lattice_run(kappa, Control::strain, eps2_max / 200.0, 0.99 * eps2_max);
   ASSERT_GT(strain.curve.size(), 150u);
   double worst = 0.0;
   for (const CurvePoint& p : strain.curve) {

@@ -30,12 +30,11 @@ const std::string sample =
 
 TEST_F(Q1Command, WritesCurveSummaryAndMode) {
   const fs::path out = root_ / "out";
-  ASSERT_EQ(run(quoted(sample) + " --dq 0.5 --out " + quoted(out.string())), 0)
-      << last_.err;
+  ASSERT_EQ(run(quoted(sample) + " --dq 0.5 --out " + quoted(out.string())), 0) << last_.err;
   const std::string json = slurp(out / "q1.json");
-  for (const char* field : {"\"q1\":", "\"q1_bracket\":", "\"criterion\": \"existence\"",
-                            "\"n_sliding_at_q1\": 32", "\"q_max_rigid\": 27.856",
-                            "\"n_disks\": 16", "\"n_contacts\": 48", "\"wall_seconds\":"})
+  for (const char* field :
+       {"\"q1\":", "\"q1_bracket\":", "\"criterion\": \"existence\"", "\"n_sliding_at_q1\": 32",
+        "\"q_max_rigid\": 27.856", "\"n_disks\": 16", "\"n_contacts\": 48", "\"wall_seconds\":"})
     EXPECT_NE(json.find(field), std::string::npos) << field << "\n" << json;
   const std::string csv = slurp(out / "static_curve.csv");
   EXPECT_EQ(csv.rfind("step,load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,hill,", 0), 0u);

@@ -43,7 +43,8 @@ void add_overlapping_contacts(Configuration& c) {
           if (i == j && (k1 < 0 || (k1 == 0 && k2 <= 0))) continue;
           const double lx = d.x[j] + k1 * c.cell.length[0] - d.x[i];
           const double ly = d.y[j] + k2 * c.cell.length[1] - d.y[i];
-          if (disk_disk_frame(lx, ly, d.radius[i], d.radius[j]).h > 0.0) c.contacts.add(i, j, k1, k2);
+          if (disk_disk_frame(lx, ly, d.radius[i], d.radius[j]).h > 0.0)
+            c.contacts.add(i, j, k1, k2);
         }
 }
 
@@ -232,15 +233,18 @@ Configuration two_disks_in_walls(double phi, double mu, double mu_wall) {
   c.contacts.add(b, wall_right, 0, 0);
   c.contacts.add(b, wall_top, 0, 0);
   // A small disk touching B only: one contact cannot balance, so it carries no force.
-  const int weak = static_cast<int>(c.disks.add(c.disks.x[b] - (radius + 0.1 - h), c.disks.y[b], 0.1));
+  const int weak =
+      static_cast<int>(c.disks.add(c.disks.x[b] - (radius + 0.1 - h), c.disks.y[b], 0.1));
   c.contacts.add(weak, b, 0, 0);
   return c;
 }
 
 TEST(RigidLimit, TwoDisksBetweenWalls) {
-  struct Case { double phi_deg, mu, mu_wall; };
-  for (const Case k : {Case{60, 0.0, 0.0}, Case{60, 0.4, 0.0}, Case{60, 0.0, 0.3},
-                       Case{55, 0.0, 0.5}}) {
+  struct Case {
+    double phi_deg, mu, mu_wall;
+  };
+  for (const Case k :
+       {Case{60, 0.0, 0.0}, Case{60, 0.4, 0.0}, Case{60, 0.0, 0.3}, Case{55, 0.0, 0.5}}) {
     const double phi = k.phi_deg * pi / 180.0;
     const Configuration c = two_disks_in_walls(phi, k.mu, k.mu_wall);
     for (std::size_t n = 0; n < c.contacts.size(); ++n) ASSERT_GT(frame(c, n).h, 0.0);
@@ -376,8 +380,12 @@ TEST(RigidLimit, ConcurrentCallsAreSerialised) {
   const Configuration c1 = disordered_packing(11, 0.25), c2 = triangular_lattice(0.2);
   const double q1 = rigid_limit(c1).q_max, q2 = rigid_limit(c2).q_max;
   std::vector<RigidLimitResult> out1(4), out2(4);
-  std::thread t1([&] { for (auto& r : out1) r = rigid_limit(c1); });
-  std::thread t2([&] { for (auto& r : out2) r = rigid_limit(c2); });
+  std::thread t1([&] {
+    for (auto& r : out1) r = rigid_limit(c1);
+  });
+  std::thread t2([&] {
+    for (auto& r : out2) r = rigid_limit(c2);
+  });
   t1.join();
   t2.join();
   for (const auto& r : out1) {
