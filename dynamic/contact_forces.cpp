@@ -421,9 +421,11 @@ void plan_team(PairArrays& pairs, int n, int team) {
     }
   }
   pairs.slotted.resize(pairs.size());
+  pairs.block_slotted.assign(nb, 0);
   for (std::size_t p = 0; p < pairs.size(); ++p) {
     pairs.slotted[p] = pairs.block_gathered[pairs.i[p] / block_size] |
                        pairs.block_gathered[pairs.j[p] / block_size];
+    pairs.block_slotted[pairs.i[p] / block_size] |= pairs.slotted[p];
   }
   pairs.team = team;
 }
@@ -517,7 +519,7 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
     }
   };
   const auto rows = [&](int b, int first, int end, BlockSums& sums) {
-    with_flags(pairs.any_gathered, in.periodic, [&]<bool Gathering, bool Periodic>() {
+    with_flags(pairs.block_slotted[b], in.periodic, [&]<bool Gathering, bool Periodic>() {
       pair_forces<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
     });
   };
@@ -537,7 +539,7 @@ BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const For
   const Cell cell = cell_of(in);
   const auto clear = [](int, int) {};  // the force pass with the kick left zeros
   const auto rows = [&](int b, int first, int end, BlockSums& sums) {
-    with_flags(pairs.any_gathered, in.periodic, [&]<bool Gathering, bool Periodic>() {
+    with_flags(pairs.block_slotted[b], in.periodic, [&]<bool Gathering, bool Periodic>() {
       pair_viscous<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
     });
   };

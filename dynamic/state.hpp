@@ -62,6 +62,10 @@ struct PairArrays {
   int team = 0;
   bool any_gathered = false;
   std::vector<std::uint8_t> block_gathered, slotted;  // per block, per pair
+  // Per block: whether one of its rows has a slotted pair. Only such blocks sweep their rows
+  // with the checks for slots and gathered partners; the others (all but a few at the part
+  // boundaries) take the plain sweep, which does the same additions.
+  std::vector<std::uint8_t> block_slotted;
   std::size_t size() const { return i.size(); }
 };
 

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "common/contact_law.hpp"
+#include "dynamic/spatial_order.hpp"
 #include "helpers.hpp"
 
 namespace granstab {
@@ -199,10 +200,11 @@ namespace {
 // gathered from per-pair slots for disks with partners in another thread's part) against a
 // direct sum over the exported contacts with the contact law: F_N = K_N h, F_T = -K_T delta_t,
 // F_v = alpha dh/dt with the final velocities. Randomly numbered disks, so that with two
-// threads many blocks are gathered.
-void expect_brute_force_sums(int threads) {
+// threads many blocks are gathered; or, with `ordered`, more disks numbered in space, so that
+// most blocks take the plain sweep and only a few near the part boundary check for slots.
+void expect_brute_force_sums(int threads, bool ordered = false) {
   const Material material = Material::from_kappa(1e3, 1.0, 0.3, 0.7);
-  Configuration c = testing::random_gas(300, 0.2, material, 5);
+  Configuration c = testing::random_gas(ordered ? 1500 : 300, 0.2, material, 5);
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> velocity(-0.5, 0.5);
   for (std::size_t i = 0; i < c.disks.size(); ++i) {
@@ -213,9 +215,10 @@ void expect_brute_force_sums(int threads) {
     c.disks.vy[i] = velocity(rng);
     c.disks.omega[i] = velocity(rng);
   }
+  if (ordered) c = renumbered(c, spatial_order(c));
   omp_set_num_threads(threads);
   EngineOptions options;
-  options.parallel_min_disks = 0;  // the team runs even these 300 disks
+  options.parallel_min_disks = 0;  // the team runs even these few disks
   Engine e(c, options);
   e.run(40);
   const Configuration s = e.configuration();
@@ -251,6 +254,7 @@ void expect_brute_force_sums(int threads) {
 
 TEST(PairSums, MatchDirectSumOneThread) { expect_brute_force_sums(1); }
 TEST(PairSums, MatchDirectSumTwoThreads) { expect_brute_force_sums(2); }
+TEST(PairSums, MatchDirectSumTwoThreadsSpatialOrder) { expect_brute_force_sums(2, true); }
 
 }  // namespace
 }  // namespace granstab
