@@ -49,6 +49,7 @@ void rebuild_degrees_of_freedom(Network& net) {
       evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
   DofOptions o;
   o.active = force_carrying_disks(net, states);
+  const std::vector<char> carrying = o.active;
   bool any_fixed = false;
   for (std::size_t i = 0; i < net.n_disks(); ++i) {
     if (!net.constraints.disk_fixed.empty() && net.constraints.disk_fixed[i]) {
@@ -66,6 +67,10 @@ void rebuild_degrees_of_freedom(Network& net) {
       }
   }
   net.dofs = build_dof_map(o);
+  net.dofs.rattler.assign(net.n_disks(), 0);
+  for (std::size_t i = 0; i < net.n_disks(); ++i)
+    net.dofs.rattler[i] =
+        !carrying[i] && (net.constraints.disk_fixed.empty() || !net.constraints.disk_fixed[i]);
 }
 
 void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq) {
@@ -87,6 +92,9 @@ void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd
   o.rotation_fixed = net.constraints.rotation_fixed;
   o.cell = net.constraints.cell_free;
   net.dofs = build_dof_map(o);
+  net.dofs.rattler = old.rattler;
+  for (const int i : disks)
+    if (i >= 0 && static_cast<std::size_t>(i) < net.dofs.rattler.size()) net.dofs.rattler[i] = 0;
   Eigen::VectorXd moved = Eigen::VectorXd::Zero(net.dofs.size);
   const auto carry = [&](int from, int to) {
     if (from >= 0 && to >= 0) moved[to] = dq[from];

@@ -13,7 +13,12 @@ struct DofMap {
   std::array<int, 2> e{-1, -1};  // cell extensions e1, e2
   int size = 0;
 
+  // Per disk (or empty): removed as a rattler by the preparation (§S3.0), as opposed to a disk
+  // held fixed. A rattler has no force balance, so its contacts carry no force.
+  std::vector<char> rattler;
+
   bool active(std::size_t i) const { return ux[i] >= 0 || uy[i] >= 0 || theta[i] >= 0; }
+  bool is_rattler(std::size_t i) const { return i < rattler.size() && rattler[i]; }
 };
 
 struct DofOptions {

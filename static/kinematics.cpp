@@ -103,7 +103,13 @@ ContactState evaluate_contact(const Network& net, std::size_t c, const Eigen::Ve
   const double d_delta = tangential_rate(f0, dlx, dly, dth_i, dth_j);
   const double delta_trial = k.delta_t[c] + d_delta;
 
-  const bool closed = f.h > 0.0;
+  // A rattler (removed by the preparation: DofMap::rattler) has no force balance, so its contacts
+  // carry no force (SPEC §2): otherwise an overlapping listed contact makes it an obstacle moved
+  // affinely with the cell that pushes its neighbour with an unbalanced force. They stay listed
+  // while they overlap (advance), so that the rattler rejoins at the next preparation once two of
+  // them carry load. (docs/static.md, "Round-off-robust decisions": whether a grazing contact of
+  // a new rattler stayed listed was round-off and chose between two states of periodic-n100.)
+  const bool closed = f.h > 0.0 && !m.is_rattler(i) && (s.wall || !m.is_rattler(j));
   s.f_n = closed ? net.material.k_n * f.h : 0.0;
   if (!closed) {
     s.status = ContactStatus::open;

@@ -472,7 +472,9 @@ void advance(Network& net, const Eigen::VectorXd& dq, const std::vector<ContactS
   Contacts kept;
   kept.reserve(net.contacts.size());
   for (std::size_t c = 0; c < net.contacts.size(); ++c) {
-    if (states[c].f_n <= 0.0) continue;
+    // Contacts that overlap stay (those of rattlers carry no force but overlap: see
+    // evaluate_contact); open ones leave.
+    if (!(states[c].frame.h > 0.0)) continue;
     kept.add(net.contacts.i[c], net.contacts.j[c], net.contacts.k1[c], net.contacts.k2[c],
              states[c].delta_t, states[c].status);
   }
@@ -528,7 +530,19 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
     }
     const std::vector<NewContact> closing =
         closing_contacts(trial, step.corrector.dq, options.push_rattlers);
-    if (closing.empty()) {
+    // A listed contact of a rattler carries no force (evaluate_contact); with push_rattlers an
+    // active disk that overlaps it pushes it, as if it had just closed.
+    // (Two rattlers never push each other, and walls push active disks only, as in
+    // closing_contacts.)
+    std::vector<int> rattlers;
+    const auto rattler = [&trial](int d) { return trial.dofs.is_rattler(d); };
+    for (std::size_t c = 0; c < trial.contacts.size() && options.push_rattlers; ++c) {
+      const int a = trial.contacts.i[c], b = trial.contacts.j[c];
+      if (is_wall(b) || !(step.corrector.states[c].frame.h > 0.0) || rattler(a) == rattler(b))
+        continue;
+      rattlers.push_back(rattler(a) ? a : b);
+    }
+    if (closing.empty() && rattlers.empty()) {
       step.ok = true;
       break;
     }
@@ -538,12 +552,13 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
     }
     // New overlaps become contacts with F_T = 0 and the corrector restarts from there (§S3.2).
     // A rattler closed on by an active disk gets dofs now, so that it is pushed along.
-    std::vector<int> rattlers;
     for (const NewContact& c : closing) {
       trial.contacts.add(c.i, c.j, c.k1, c.k2);
       for (const int d : {c.i, c.j})
         if (!is_wall(d) && !trial.dofs.active(d)) rattlers.push_back(d);
     }
+    std::sort(rattlers.begin(), rattlers.end());
+    rattlers.erase(std::unique(rattlers.begin(), rattlers.end()), rattlers.end());
     step.new_contacts += static_cast<int>(closing.size());
     dq = step.corrector.dq;
     activate_disks(trial, rattlers, dq);
