@@ -56,6 +56,16 @@ double eps2_uncertainty(double s21, double s22, double sigma1, double sigma2,
          (std::abs(s21) + std::abs(s22)) * tolerances.force;
 }
 
+double static_bound_eps2(const std::vector<statics::CurvePoint>& curve, double q, double sigma1,
+                         const EquilibriumTolerances& tolerances) {
+  if (curve.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::size_t k = 0;
+  for (std::size_t c = 1; c < curve.size(); ++c)
+    if (std::abs(curve[c].load - q) < std::abs(curve[k].load - q)) k = c;
+  const std::array<double, 2> s = static_compliance(curve, k);
+  return eps2_uncertainty(s[0] / sigma1, s[1] / sigma1, sigma1, sigma1 * (1.0 + q), tolerances);
+}
+
 Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, double q1,
                           const std::vector<DynamicPoint>& dynamic_curve, double sigma1,
                           const EquilibriumTolerances& tolerances) {

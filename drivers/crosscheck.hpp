@@ -113,6 +113,10 @@ struct Comparison {
 double eps2_uncertainty(double s21, double s22, double sigma1, double sigma2,
                         const EquilibriumTolerances& tolerances);
 
+// bound_eps2 at the static state of `curve` nearest to load q, as compare_curves computes it.
+double static_bound_eps2(const std::vector<statics::CurvePoint>& curve, double q, double sigma1,
+                         const EquilibriumTolerances& tolerances);
+
 // Matches the curves at the same prescribed q (static states are at the load q; step cuts of the
 // static run near q1 give extra states, and the dynamic q = k dq then falls between two of them:
 // linear interpolation, counted). Pure function of its inputs.

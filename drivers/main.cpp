@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   granstab::cli::add_perturb_command(app);
   granstab::cli::add_q1_command(app);
   granstab::cli::add_compare_command(app);
+  granstab::cli::add_probe_command(app);
   granstab::cli::add_plot_command(app);
   granstab::cli::add_resume_command(app);
   granstab::cli::command_line().assign(argv + 1, argv + argc);

@@ -1,0 +1,123 @@
+// Static states handed to the dynamic engine (issue #6, drivers/stability_probe.hpp): a static
+// state written as a configuration is an equilibrium of the common contact law at the static
+// residual level once the rattlers it overlaps are out, and the dynamic probe keeps a stable state
+// within the SPEC 3.1 tolerance bound while it moves a state that is no equilibrium at the held q.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+#include "common/equilibrium.hpp"
+#include "common/io/configuration_file.hpp"
+#include "common/measurements.hpp"
+#include "drivers/crosscheck.hpp"
+#include "drivers/stability_probe.hpp"
+
+namespace granstab::crosscheck {
+namespace {
+
+const std::filesystem::path sample_path =
+    std::filesystem::path(GRANSTAB_SOURCE_DIR) / "data" / "samples" / "periodic-n100-k1e4.granstab";
+
+CrosscheckOptions options() {
+  CrosscheckOptions o;
+  o.dq = 1e-2;
+  o.mu = 0.5;
+  o.statics.hill = false;
+  o.rigid_limit = false;
+  return o;
+}
+
+struct StaticState {
+  statics::StabilityResult run;
+  Configuration state;
+  std::vector<char> overlaps;
+};
+
+StaticState static_state_at(double q) {
+  const Configuration sample = read_configuration(sample_path);
+  StaticState s;
+  s.run = static_run_to(sample, options(), q);
+  s.state = configuration_of_static_state(s.run.network_at_q1, biaxial_start(sample, 0.5));
+  s.overlaps = overlapping_rattlers(s.run.network_at_q1, s.state);
+  return s;
+}
+
+std::size_t contact_count(const Configuration& c) {
+  std::size_t n = 0;
+  for (const ContactLoad& l : contact_loads(c)) n += l.f_n > 0.0 ? 1 : 0;
+  return n;
+}
+
+TEST(StaticStateExport, IsAnEquilibriumOfTheContactLawAtTheStaticResidualLevel) {
+  const StaticState s = static_state_at(0.3);
+  ASSERT_NEAR(s.run.curve.back().load, 0.3, 1e-9);
+  // Through the file format (it rejects positions outside the periodic cell).
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "granstab-test-static-state.granstab";
+  write_configuration(without_disks(s.state, s.overlaps), file);
+  const Configuration back = read_configuration(file);
+  std::filesystem::remove(file);
+  const EquilibriumReport r = check_equilibrium(back);
+  std::cout << "static state at q = 0.3: " << back.disks.size() << " disks ("
+            << s.state.disks.size() - back.disks.size() << " overlapping rattlers out), max net "
+            << "force " << r.max_net_force << ", torque " << r.max_net_torque << ", stress errors "
+            << r.stress_error[0] << ", " << r.stress_error[1] << "\n";
+  // SPEC 3.1 tolerances are 1e-4: the static corrector's residual is far below them.
+  EXPECT_LT(r.max_net_force, 1e-8);
+  EXPECT_LT(r.max_net_torque, 1e-8);
+  EXPECT_LT(r.stress_error[0], 1e-8);
+  EXPECT_LT(r.stress_error[1], 1e-8);
+  EXPECT_TRUE(back.stage.control[0] == LengthControl::stress &&
+              back.stage.control[1] == LengthControl::stress);
+  EXPECT_NEAR(back.stage.sigma_ext[1] / back.stage.sigma_ext[0] - 1.0, 0.3, 1e-9);
+  // A translated network (a symmetry of the periodic cell) puts disks across the cell's sides:
+  // wrapped back, their contacts must keep their branch vectors through the image shifts.
+  statics::Network shifted = s.run.network_at_q1;
+  for (std::size_t i = 0; i < shifted.n_disks(); ++i) {
+    shifted.x[i] += 0.37 * shifted.length[0];
+    shifted.y[i] -= 0.61 * shifted.length[1];
+  }
+  const Configuration wrapped = without_disks(
+      configuration_of_static_state(shifted, biaxial_start(read_configuration(sample_path), 0.5)),
+      s.overlaps);
+  EXPECT_LT(check_equilibrium(wrapped).max_net_force, 1e-8);
+  EXPECT_EQ(contact_count(wrapped), contact_count(back));
+  // Same strains as the static curve: same reference lengths, same cell.
+  const std::array<double, 3> e = strains(back);
+  EXPECT_NEAR(e[1], s.run.curve.back().eps2, 1e-14);
+  EXPECT_NEAR(e[2], s.run.curve.back().epsv, 1e-14);
+}
+
+// One test: the probes of the same state are its set-up.
+TEST(StabilityProbe, AStableStateStaysWithinTheBoundAndAStateOutOfEquilibriumMoves) {
+  const StaticState s = static_state_at(0.3);
+  const double bound = static_bound_eps2(s.run.curve, 0.3, 1.0, EquilibriumTolerances{});
+  ASSERT_GT(bound, 0.0);
+  ProbeOptions o;
+  o.f0 = 1e-4;
+  o.draws = 2;
+  const ProbeResult stable = probe_static_state(s.state, s.overlaps, 0.3, bound, o);
+  // Held at another q the same state is no equilibrium: the probe must see it move.
+  const ProbeResult moved = probe_static_state(s.state, s.overlaps, 0.33, bound, o);
+  for (const ProbeResult* p : {&stable, &moved})
+    std::cout << "q held " << p->q << ": hold " << p->hold_steps << " steps, d eps2 "
+              << p->hold_d_eps2 << "; final d eps2 " << p->final_d_eps2 << " (bound " << bound
+              << ", " << p->draws_reached << " draws)\n";
+  EXPECT_LT(stable.initial_max_net_force, 1e-8);
+  EXPECT_TRUE(stable.hold_reached);
+  EXPECT_EQ(stable.draws_reached, 2);
+  EXPECT_GT(stable.perturbation_steps, 0u);
+  EXPECT_LE(std::abs(stable.final_d_eps2), bound);
+  EXPECT_TRUE(stable.stable);
+  EXPECT_TRUE(moved.hold_reached);
+  EXPECT_GT(std::abs(moved.hold_d_eps2), 10.0 * bound);
+  EXPECT_FALSE(moved.stable);
+  EXPECT_EQ(stable_up_to({stable, moved}), 0.3);
+  EXPECT_TRUE(std::isnan(stable_up_to({moved, stable})));
+}
+
+}  // namespace
+}  // namespace granstab::crosscheck
