@@ -22,6 +22,7 @@
 #include "common/io/configuration_file.hpp"
 #include "common/run_config.hpp"
 #include "crosscheck.hpp"
+#include "stability_probe.hpp"
 #include "dynamic/protocols/settings.hpp"
 #include "resumable.hpp"
 
@@ -65,6 +66,16 @@ void print_verdict(const crosscheck::CrosscheckResult& r, const std::filesystem:
       c.max_dynamic_step_below_q1 / c.mean_dynamic_step_below_q1);
   row("dynamic eps2 jump after q1", "%.3e at q = %.6g%s", c.dynamic_jump_after_q1, c.q_of_jump,
       c.jump_reached_equilibrium ? "" : " (no equilibrium)");
+  if (!r.probes.empty()) {
+    std::string list;
+    for (const crosscheck::ProbeResult& p : r.probes) {
+      std::snprintf(buf, sizeof buf, "%s%.4g %s (%.2g)", list.empty() ? "" : ", ", p.q,
+                    p.stable ? "stays" : "moves", std::abs(p.final_d_eps2) / p.bound_eps2);
+      list += buf;
+    }
+    row("static states probed (|d eps2| / bound)", "%s", list.c_str());
+    row("static states stable up to q", "%.6g", crosscheck::stable_up_to(r.probes));
+  }
   row("seconds static / dynamic", "%.3g / %.3g", r.static_seconds, r.dynamic_seconds);
   const bool agree = c.n_steps_compared > 0 && c.max_diff_over_bound_eps2 <= 1.0;
   const bool agree_before =
@@ -134,6 +145,17 @@ void add_options(CLI::App& cmd, CompareCommandOptions& o) {
                  "static run: steps of delta q / N, states compared at multiples of delta q")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd.add_option("--probe-states", o.run.probe.states,
+                 "probe K static states (q = k q1 / K, k = 1..K) with the dynamic engine: SIC "
+                 "hold and random perturbations (granstab probe; issue #6)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--probe-f0", o.run.probe.f0, "perturbation forces of the probe (units of aP)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--probe-draws", o.run.probe.draws, "perturbation draws of the probe")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd.add_flag("!--no-hill", o.run.statics.hill,
                "skip the Hill indicator of the static states (faster)");
   cmd.add_option("--set", o.overrides,
@@ -228,6 +250,11 @@ void run_compare(const protocols::Invocation& invocation, const protocols::Check
   crosscheck::run_dynamic(from, o.run, q_end, r.dynamic, control);
   r.dynamic_seconds = dynamic_seconds();
   crosscheck::compare_halves(r, o.run);
+  // After the dynamic half (not checkpointed: deterministic, seconds on the shipped sample).
+  const auto probe_start = std::chrono::steady_clock::now();
+  r.probes = crosscheck::probe_static_states(sample, r, o.run);
+  r.probe_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - probe_start).count();
 
   // Everything is formatted before the first file is written: an error leaves no partial output.
   const crosscheck::JsonContext context{o.sample, o.run.dq, o.run.q_max};

@@ -10,6 +10,7 @@
 #include "common/io/csv_writer.hpp"
 #include "common/measurements.hpp"
 #include "dynamic/protocols/biaxial.hpp"
+#include "stability_probe.hpp"
 
 namespace granstab::crosscheck {
 namespace {
@@ -455,6 +456,24 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"mean_dynamic_step_below_q1\": " << json_number(c.mean_dynamic_step_below_q1) << ",\n"
     << "  \"max_dynamic_step_below_q1\": " << json_number(c.max_dynamic_step_below_q1) << ",\n"
     << "  \"q_of_max_dynamic_step\": " << json_number(c.q_of_max_dynamic_step) << ",\n"
+    << "  \"probe_f0\": " << json_number(o.probe.f0) << ",\n"
+    << "  \"probe_draws\": " << o.probe.draws << ",\n"
+    << "  \"static_states_probed\": [";
+  for (std::size_t k = 0; k < r.probes.size(); ++k) {
+    const ProbeResult& p = r.probes[k];
+    s << (k ? ",\n    " : "\n    ") << "{\"q\": " << json_number(p.q)
+      << ", \"bound_eps2\": " << json_number(p.bound_eps2)
+      << ", \"removed_rattlers\": " << p.removed_rattlers
+      << ", \"initial_max_net_force\": " << json_number(p.initial_max_net_force)
+      << ", \"hold_steps\": " << p.hold_steps << ", \"hold_d_eps2\": " << json_number(p.hold_d_eps2)
+      << ", \"max_released_d_eps2\": " << json_number(p.max_released_d_eps2)
+      << ", \"final_d_eps2\": " << json_number(p.final_d_eps2)
+      << ", \"final_d_epsv\": " << json_number(p.final_d_epsv)
+      << ", \"stable\": " << (p.stable ? "true" : "false") << "}";
+  }
+  s << (r.probes.empty() ? "" : "\n  ") << "],\n"
+    << "  \"static_states_stable_up_to\": " << json_number(stable_up_to(r.probes)) << ",\n"
+    << "  \"probe_seconds\": " << json_number(r.probe_seconds) << ",\n"
     << "  \"static_seconds\": " << json_number(r.static_seconds) << ",\n"
     << "  \"dynamic_seconds\": " << json_number(r.dynamic_seconds) << ",\n"
     << "  \"rigid_seconds\": " << json_number(r.rigid_seconds) << "\n"

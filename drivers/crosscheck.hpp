@@ -19,6 +19,34 @@
 
 namespace granstab::crosscheck {
 
+// The dynamic stability probe of one static state (drivers/stability_probe.hpp).
+struct ProbeResult {
+  double q = 0.0;            // load of the static state
+  int rattler_overlaps = 0;  // rattlers overlapping a disk or wall in the static state
+  int removed_rattlers = 0;
+  double initial_max_net_force = 0.0;  // as the engine sees the exported state (non-rattlers)
+  double initial_stress_error = 0.0;   // largest relative stress error of that state
+  bool hold_reached = false;
+  std::uint64_t hold_steps = 0;
+  double hold_d_eps2 = 0.0, hold_d_epsv = 0.0;  // hold end - static state
+  int draws_reached = 0;
+  std::uint64_t perturbation_steps = 0;
+  double max_loaded_d_eps2 = 0.0;                 // max over draws of |loaded - before|
+  double max_released_d_eps2 = 0.0;               // max over draws of |released - before|
+  double final_d_eps2 = 0.0, final_d_epsv = 0.0;  // last state - static state
+  double bound_eps2 = std::numeric_limits<double>::quiet_NaN();
+  // Every wait reached equilibrium and |final_d_eps2| <= bound_eps2 (and the hold moved no more).
+  bool stable = false;
+};
+
+struct ProbeSettings {
+  int states = 0;    // compare --probe-states K: probe K static states up to q1 (0: none)
+  double f0 = 1e-4;  // perturbation forces (SPEC 3.5), units of aP; 0: hold only
+  int draws = 2;
+  std::uint64_t seed = 1;
+  bool remove_overlapping_rattlers = true;
+};
+
 struct CrosscheckOptions {
   double dq = 1e-3;  // the one delta q of both methods
   // Highest q of both runs. Infinite: the static run goes to q1, the dynamic one
@@ -38,6 +66,7 @@ struct CrosscheckOptions {
   // The static run steps by delta q / n (its states at q = k delta q are the ones compared): it
   // shrinks the static path error of one linear predictor per step with status changes inside.
   int static_substeps = 1;
+  ProbeSettings probe;
   EngineOptions engine;
   // Static stepping (its dq is set from dq above).
   statics::Q1Options statics;
@@ -152,6 +181,8 @@ struct CrosscheckResult {
   DynamicRun dynamic;
   Comparison comparison;
   double static_seconds = 0.0, dynamic_seconds = 0.0, rigid_seconds = 0.0;
+  std::vector<ProbeResult> probes;  // compare --probe-states
+  double probe_seconds = 0.0;
 };
 
 // Runs both methods and compares them. Throws std::invalid_argument on bad options or sample.

@@ -181,6 +181,42 @@ ProbeResult probe_static_state(const Configuration& static_state, const std::vec
   return r;
 }
 
+std::vector<ProbeResult> probe_static_states(const Configuration& sample,
+                                             const CrosscheckResult& result,
+                                             const CrosscheckOptions& options) {
+  std::vector<ProbeResult> probes;
+  const int k_states = options.probe.states;
+  if (k_states <= 0 || result.statics.curve.empty()) return probes;
+  ProbeOptions po;
+  po.f0 = options.probe.f0;
+  po.draws = options.probe.draws;
+  po.seed = options.probe.seed;
+  po.remove_overlapping_rattlers = options.probe.remove_overlapping_rattlers;
+  po.equilibration = options.equilibration;
+  po.engine = options.engine;
+  CrosscheckOptions quick = options;
+  quick.statics.hill = false;  // logged only: the static path does not depend on it
+  const double q0 = result.statics.curve.front().load;
+  const double step = options.dq / options.static_substeps;
+  for (int k = 1; k <= k_states; ++k) {
+    statics::StabilityResult to_q;
+    const statics::StabilityResult* run = &result.statics;  // k = K: the state at q1
+    if (k < k_states) {
+      const double q = q0 + std::floor((result.statics.q1 - q0) * k / k_states / step) * step;
+      if (!(q > q0)) continue;
+      to_q = static_run_to(sample, quick, q);
+      run = &to_q;
+    }
+    const statics::Network& net = run->network_at_q1;
+    const double load = run->curve.back().load;
+    const Configuration state = configuration_of_static_state(net, result.start);
+    const double bound = static_bound_eps2(result.statics.curve, load, result.pressure,
+                                           options.equilibration.tolerances);
+    probes.push_back(probe_static_state(state, overlapping_rattlers(net, state), load, bound, po));
+  }
+  return probes;
+}
+
 double stable_up_to(const std::vector<ProbeResult>& probes) {
   double q = std::numeric_limits<double>::quiet_NaN();
   for (const ProbeResult& p : probes) {

@@ -51,25 +51,6 @@ struct ProbeOptions {
   bool remove_overlapping_rattlers = true;
 };
 
-struct ProbeResult {
-  double q = 0.0;            // load of the static state
-  int rattler_overlaps = 0;  // rattlers overlapping a disk or wall in the static state
-  int removed_rattlers = 0;
-  double initial_max_net_force = 0.0;  // as the engine sees the exported state (non-rattlers)
-  double initial_stress_error = 0.0;   // largest relative stress error of that state
-  bool hold_reached = false;
-  std::uint64_t hold_steps = 0;
-  double hold_d_eps2 = 0.0, hold_d_epsv = 0.0;  // hold end - static state
-  int draws_reached = 0;
-  std::uint64_t perturbation_steps = 0;
-  double max_loaded_d_eps2 = 0.0;                 // max over draws of |loaded - before|
-  double max_released_d_eps2 = 0.0;               // max over draws of |released - before|
-  double final_d_eps2 = 0.0, final_d_epsv = 0.0;  // last state - static state
-  double bound_eps2 = std::numeric_limits<double>::quiet_NaN();
-  // Every wait reached equilibrium and |final_d_eps2| <= bound_eps2 (and the hold moved no more).
-  bool stable = false;
-};
-
 // Probes `state` (a static state at load q, as configuration_of_static_state writes it; the
 // overlapping rattlers of `remove` are taken out first when options say so).
 ProbeResult probe_static_state(const Configuration& state, const std::vector<char>& remove,
@@ -78,5 +59,11 @@ ProbeResult probe_static_state(const Configuration& state, const std::vector<cha
 // The largest probed load below which every probed state is stable (probes in increasing q):
 // NaN when the first one is unstable.
 double stable_up_to(const std::vector<ProbeResult>& probes);
+
+// compare --probe-states K: the static states of the compare run at q = k q1 / K (k = 1..K, on
+// the static run's grid; k = K is the state at q1 itself), probed with options.probe.
+std::vector<ProbeResult> probe_static_states(const Configuration& sample,
+                                             const CrosscheckResult& result,
+                                             const CrosscheckOptions& options);
 
 }  // namespace granstab::crosscheck

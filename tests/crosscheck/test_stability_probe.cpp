@@ -121,3 +121,30 @@ TEST(StabilityProbe, AStableStateStaysWithinTheBoundAndAStateOutOfEquilibriumMov
 
 }  // namespace
 }  // namespace granstab::crosscheck
+
+namespace granstab::crosscheck {
+namespace {
+
+// compare --probe-states: K states at k q1 / K on the static run's grid, the last one at q1.
+TEST(StabilityProbe, CompareProbesStatesUpToTheEndOfTheStaticRun) {
+  const Configuration sample = read_configuration(sample_path);
+  CrosscheckOptions o = options();
+  o.q_max = 0.2;  // the static run stops there while stable: "q1" = 0.2
+  o.probe.states = 2;
+  const CrosscheckResult r = run_static_half(sample, o);
+  ASSERT_NEAR(r.statics.q1, 0.2, 1e-9);
+  const std::vector<ProbeResult> probes = probe_static_states(sample, r, o);
+  ASSERT_EQ(probes.size(), 2u);
+  EXPECT_NEAR(probes[0].q, 0.1, 1e-9);
+  EXPECT_NEAR(probes[1].q, 0.2, 1e-9);
+  for (const ProbeResult& p : probes) {
+    EXPECT_LT(p.initial_max_net_force, 1e-8) << "q = " << p.q;
+    EXPECT_TRUE(p.stable) << "q = " << p.q;
+  }
+  EXPECT_NEAR(stable_up_to(probes), 0.2, 1e-9);
+  o.probe.states = 0;
+  EXPECT_TRUE(probe_static_states(sample, r, o).empty());
+}
+
+}  // namespace
+}  // namespace granstab::crosscheck
