@@ -19,7 +19,11 @@ for run in "0.5 0.001" "0.15 0.001" "0.5 0.01" "0.15 0.01"; do
   out="$results/mu$mu-dq$dq"
   # One thread: at N = 100 OpenMP threads cost far more than they bring (on the loaded 2-core
   # machine a dynamic run took 269 s with 2 threads and 4.3 s with 1; the results are identical).
-  OMP_NUM_THREADS=1 "$granstab" compare "$sample" --dq "$dq" --mu "$mu" --out "$out"
+  # At the reference step the static states at q1 / 4, q1 / 2, 3 q1 / 4 and q1 are also handed to
+  # the engine and probed (SIC hold and perturbations: are they stable equilibria? issue #6).
+  probe=()
+  [ "$dq" = 0.001 ] && probe=(--probe-states 4)
+  OMP_NUM_THREADS=1 "$granstab" compare "$sample" --dq "$dq" --mu "$mu" "${probe[@]}" --out "$out"
   "$granstab" plot "$out"
 done
 # The stress-step overshoot of issue #6 removed (docs/user-guide.md): mu = 0.15, delta q = 0.01,
