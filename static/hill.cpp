@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <complex>
+#include <ctime>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
@@ -46,6 +47,12 @@ class ShiftSolve {
   bool ok_ = false;
 };
 
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 // Spectra's real-shift operator for K with the shift 0 only: y = K^-1 x with the LU of K.
 class InverseOperator {
  public:
@@ -55,7 +62,13 @@ class InverseOperator {
   Eigen::Index cols() const { return n_; }
   void set_shift(const Scalar&) {}
   void perform_op(const Scalar* x_in, Scalar* y_out) const {
-    Eigen::Map<Eigen::VectorXd>(y_out, n_) = lu_.solve(Eigen::Map<const Eigen::VectorXd>(x_in, n_));
+    ++negative_eigenvalue_statistics().arnoldi_solves;
+    // Unrefined: Arnoldi converges on the inverse of the computed factors as well (a backward-
+    // stable perturbation of K) in as many solves and with the same counts on the shipped samples;
+    // UMFPACK's refinement made each solve 5-8 times as expensive (12.6 -> 1.5 s of CPU in q1 at
+    // N = 1400, bench/README.md "Static solver").
+    Eigen::Map<Eigen::VectorXd>(y_out, n_) =
+        lu_.solve_unrefined(Eigen::Map<const Eigen::VectorXd>(x_in, n_));
   }
 
  private:
@@ -84,6 +97,11 @@ constexpr int dense_limit = 1500;
 
 }  // namespace
 
+NegativeEigenvalueStatistics& negative_eigenvalue_statistics() {
+  thread_local NegativeEigenvalueStatistics statistics;
+  return statistics;
+}
+
 int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt(s);
   if (ldlt.info() != Eigen::Success) return -1;
@@ -98,24 +116,33 @@ int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
 
 NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu) {
   NegativeEigenvalues out;
+  NegativeEigenvalueStatistics& statistics = negative_eigenvalue_statistics();
+  ++statistics.calls;
   const int n = static_cast<int>(k.rows());
   if (n == 0) {
     out.ok = true;
     out.symmetric = out.real = 0;
     return out;
   }
+  const double t0 = thread_seconds();
+  // Not gated by a CHOLMOD LL^T: the symmetric part is indefinite in 70 % of the calls of a q1 run
+  // (the LDL^T then runs anyway), and the gate doubled this part's cost at N = 1400.
   out.symmetric = negative_eigenvalue_count_symmetric(0.5 * (k + SparseMatrix(k.transpose())));
+  const double t1 = thread_seconds();
+  statistics.symmetric_seconds += t1 - t0;
   if (out.symmetric == 0) {
     out.ok = true;
     out.real = 0;
     return out;
   }
   if (lu && n > 8) {
+    ++statistics.arnoldi;
     InverseOperator op(*lu, n);
     const int nev = std::min(6, n - 3);
     Spectra::GenEigsRealShiftSolver<InverseOperator> eigs(op, nev, std::min(n, 2 * nev + 8), 0.0);
     eigs.init();
     eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+    statistics.arnoldi_seconds += thread_seconds() - t1;
     if (eigs.info() == Spectra::CompInfo::Successful) {
       out.ok = true;
       out.real = 0;
@@ -129,7 +156,10 @@ NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* 
       return out;
     }
   }
-  if (n <= dense_limit) out.ok = dense_real_negative(k, out);
+  if (n <= dense_limit) {
+    ++statistics.dense;
+    out.ok = dense_real_negative(k, out);
+  }
   return out;
 }
 

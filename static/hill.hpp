@@ -38,4 +38,15 @@ struct NegativeEigenvalues {
 // fails and K is small) are counted: an eigenvalue that crossed 0 since the last state is near 0.
 NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu);
 
+// Counters of this thread's negative_eigenvalues work (bench/static).
+struct NegativeEigenvalueStatistics {
+  long calls = 0;
+  long arnoldi = 0;         // calls that ran the Arnoldi iteration (indefinite symmetric part)
+  long arnoldi_solves = 0;  // solves with the LU of K in those
+  long dense = 0;           // calls that ended in the dense eigensolver
+  double symmetric_seconds = 0.0;  // the symmetric part's inertia (thread CPU)
+  double arnoldi_seconds = 0.0;    // Arnoldi incl. its solves (thread CPU)
+};
+NegativeEigenvalueStatistics& negative_eigenvalue_statistics();
+
 }  // namespace granstab::statics

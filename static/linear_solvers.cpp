@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <mutex>
 #include <stdexcept>
 
@@ -17,6 +18,7 @@ namespace granstab::statics {
 
 struct SymmetricFactor::Impl {
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  std::vector<int> col, row;  // the pattern analysed last (empty: none)
 };
 
 SymmetricFactor::SymmetricFactor() : impl_(std::make_unique<Impl>()) {
@@ -25,7 +27,20 @@ SymmetricFactor::SymmetricFactor() : impl_(std::make_unique<Impl>()) {
 SymmetricFactor::~SymmetricFactor() = default;
 
 bool SymmetricFactor::factorize(const SparseMatrix& k) {
-  impl_->llt.compute(k);
+  Impl& m = *impl_;
+  SparseMatrix kc = k;
+  kc.makeCompressed();
+  const int n = static_cast<int>(kc.rows());
+  const bool same = static_cast<int>(m.col.size()) == n + 1 &&
+                    static_cast<Eigen::Index>(m.row.size()) == kc.nonZeros() &&
+                    std::equal(m.col.begin(), m.col.end(), kc.outerIndexPtr()) &&
+                    std::equal(m.row.begin(), m.row.end(), kc.innerIndexPtr());
+  if (!same) {
+    m.llt.analyzePattern(kc);
+    m.col.assign(kc.outerIndexPtr(), kc.outerIndexPtr() + n + 1);
+    m.row.assign(kc.innerIndexPtr(), kc.innerIndexPtr() + kc.nonZeros());
+  }
+  m.llt.factorize(kc);
   // NumericalIssue is CHOLMOD_NOT_POSDEF: the factor is unusable (DEPS.md #2).
   return impl_->llt.info() == Eigen::Success;
 }
@@ -34,7 +49,17 @@ Eigen::VectorXd SymmetricFactor::solve(const Eigen::VectorXd& b) const {
   return impl_->llt.solve(b);
 }
 
+Eigen::MatrixXd SymmetricFactor::solve_columns(const Eigen::MatrixXd& b) const {
+  return impl_->llt.solve(b);
+}
+
 namespace {
+
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 void umfpack_control(double* control) {
   umfpack_di_defaults(control);
@@ -126,8 +151,16 @@ struct NumericLu {
     double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
     umfpack_control(control);
     if (!refine) control[UMFPACK_IRSTEP] = 0;
+    LuStatistics& statistics = lu_statistics();
+    const double t0 = refine ? thread_seconds() : 0.0;
     const int status = umfpack_di_solve(sys, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(),
                                         x.data(), b.data(), numeric, control, info);
+    if (refine) {
+      ++statistics.solves;
+      statistics.solve_seconds += thread_seconds() - t0;
+    } else {
+      ++statistics.unrefined_solves;
+    }
     if (status != UMFPACK_OK) throw std::runtime_error("UMFPACK solve failed");
     return x;
   }
@@ -433,6 +466,13 @@ Eigen::VectorXd LuFactor::solve(const Eigen::VectorXd& b) const {
   if (impl_->update) return refined(*impl_->update, impl_->k, b, false);
   if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
   return impl_->full->solve(UMFPACK_A, b);
+}
+
+Eigen::VectorXd LuFactor::solve_unrefined(const Eigen::VectorXd& b) const {
+  if (b.size() == 0) return b;
+  if (impl_->update) return impl_->update->apply(b, false);
+  if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
+  return impl_->full->solve(UMFPACK_A, b, false);
 }
 
 Eigen::VectorXd LuFactor::solve_transpose(const Eigen::VectorXd& b) const {

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "common/io/configuration_file.hpp"
+#include "static/hill.hpp"
 #include "static/linear_solvers.hpp"
 #include "static/load_step.hpp"
 #include "static/q1.hpp"
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
         double(timings.factorisations) / done, double(timings.symbolic_analyses) / done,
         double(timings.status_iterations) / done, double(timings.newton_iterations) / done);
   statics::lu_statistics() = {};
+  statics::negative_eigenvalue_statistics() = {};
   if (q1) {
     statics::Q1Options o;
     o.hill = false;
@@ -76,10 +78,13 @@ int main(int argc, char** argv) {
     if (argc > 6) {
       std::FILE* f = std::fopen(argv[6], "w");
       if (!f) throw std::runtime_error(std::string("cannot write ") + argv[6]);
-      std::fprintf(f, "load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,det_sign,new_contacts\n");
+      std::fprintf(f,
+                   "load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,det_sign,new_contacts,"
+                   "negative_eigenvalues\n");
       for (const statics::CurvePoint& p : r.curve)
-        std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%d\n", p.load, p.q, p.eps1, p.eps2,
-                     p.epsv, p.n_sliding, p.determinant_sign, p.new_contacts);
+        std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%d,%d\n", p.load, p.q, p.eps1, p.eps2,
+                     p.epsv, p.n_sliding, p.determinant_sign, p.new_contacts,
+                     p.negative_eigenvalues);
       std::fclose(f);
     }
     std::printf(
@@ -93,9 +98,15 @@ int main(int argc, char** argv) {
     const statics::LuStatistics& lu = statics::lu_statistics();
     std::printf(
         "LuFactor: %ld numeric factorisations (%ld symbolic analyses), %ld low-rank updates "
-        "(mean rank %.1f), %ld updates refused\n",
+        "(mean rank %.1f), %ld updates refused; %ld refined solves (%.2f s CPU), %ld unrefined\n",
         lu.numeric, lu.symbolic, lu.low_rank,
-        lu.low_rank > 0 ? double(lu.rank_sum) / lu.low_rank : 0.0, lu.too_many);
+        lu.low_rank > 0 ? double(lu.rank_sum) / lu.low_rank : 0.0, lu.too_many, lu.solves,
+        lu.solve_seconds, lu.unrefined_solves);
+    const statics::NegativeEigenvalueStatistics& e = statics::negative_eigenvalue_statistics();
+    std::printf(
+        "negative_eigenvalues: %ld calls, symmetric inertia %.2f s CPU; %ld Arnoldi (%ld solves, "
+        "%.2f s CPU), %ld dense\n",
+        e.calls, e.symmetric_seconds, e.arnoldi, e.arnoldi_solves, e.arnoldi_seconds, e.dense);
   }
   return 0;
 }
