@@ -57,6 +57,7 @@ PrepareSettings read_settings(const protocols::Invocation& invocation) {
   s.seed = static_cast<std::uint64_t>(rc.integer("sample.seed", 1, 0, INT64_MAX));
   s.material = protocols::read_material(rc, Material::from_kappa(1e4, 1.0, 0.15, 1.0));
   s.compaction.strain_rate = rc.number("compaction.strain_rate", 0.0, 0.0, 1.0);
+  s.compaction.cell_mass_factor = rc.number("compaction.cell_mass_factor", 1.0, 1e-3, 1e3);
   s.compaction.equilibration = protocols::read_equilibration(rc);
   s.engine = protocols::read_engine_options(rc);
   s.sample = protocols::required_path(rc, "output.sample");
@@ -185,6 +186,7 @@ void run_prepare(const protocols::Invocation& invocation, bool quiet,
       .add("gas_phi", gas_phi)
       .add("material", material)
       .add("compaction_strain_rate", s.compaction.strain_rate)
+      .add("compaction_cell_mass_factor", s.compaction.cell_mass_factor)
       .add("dt", engine->dt())
       .add("steps_strain_rate", result.strain_rate_steps)
       .add("steps_stress", result.stress_steps)
