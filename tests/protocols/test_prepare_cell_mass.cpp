@@ -1,10 +1,16 @@
 // granstab prepare, compaction.cell_mass_factor (docs/protocols.md): the key is read and
-// range-checked, it changes the compaction but not the cell mass written with the sample, and the
-// default leaves the shipped sample's bits unchanged.
+// range-checked, it changes the compaction but not the cell mass written with the sample, the
+// default leaves the shipped sample's bits unchanged, and a compaction resumed from any safe point
+// (the engine state plus the cursor, as a checkpoint stores them) ends on the same bits.
 #include <gtest/gtest.h>
+
+#include <optional>
+#include <random>
 
 #include "common/equilibrium.hpp"
 #include "common/io/configuration_file.hpp"
+#include "dynamic/protocols/compaction.hpp"
+#include "dynamic/protocols/random_gas.hpp"
 #include "run_granstab.hpp"
 
 namespace granstab {
@@ -72,6 +78,58 @@ TEST(PrepareCellMass, DefaultRegeneratesTheShippedSampleBitForBit) {
         " --set output.summary='\"" + (dir / "n100.json").string() + "\"'" + extra);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(testing::slurp(dir / "n100.granstab") == shipped) << "extra settings:" << extra;
+  }
+}
+
+TEST(PrepareCellMass, ResumedCompactionEndsOnTheSameBits) {
+  const Material material = Material::from_kappa(1e3, 1.0, 0.15, 1.0);
+  protocols::GasOptions gas_options;
+  gas_options.n = 40;
+  std::mt19937_64 rng(7);
+  const Configuration gas = protocols::random_gas(gas_options, material, rng);
+  protocols::CompactionOptions options;
+  options.strain_rate = 0.05;
+  options.cell_mass_factor = 10.0;
+  Engine uninterrupted_engine(gas);
+  Configuration uninterrupted;
+  ASSERT_TRUE(
+      protocols::compact_isotropically(uninterrupted_engine, options, uninterrupted).reached);
+  EXPECT_EQ(uninterrupted.cell.mass, gas.cell.mass);  // the factor acts during the run only
+  for (const int phase : {0, 1}) {
+    // Keep the state at the 3rd safe point of the phase, as a checkpoint would.
+    std::optional<Configuration> saved;
+    protocols::Cursor saved_cursor;
+    int seen = 0;
+    protocols::LoopControl watch;
+    watch.hooks.safe_point = [&](const Engine& e, const protocols::Cursor& cursor) {
+      if (cursor.phase == phase && !saved && ++seen == 3) {
+        saved = e.configuration();
+        saved_cursor = cursor;
+      }
+    };
+    Engine engine(gas);
+    Configuration ignored;
+    protocols::compact_isotropically(engine, options, ignored, {}, watch);
+    ASSERT_TRUE(saved) << "phase " << phase;
+    EXPECT_EQ(saved->cell.mass[0], 10.0 * gas.cell.mass[0]) << "phase " << phase;
+    Engine resumed_engine(*saved);
+    protocols::LoopControl resume;
+    resume.cursor = saved_cursor;
+    resume.resume = true;
+    Configuration resumed;
+    ASSERT_TRUE(
+        protocols::compact_isotropically(resumed_engine, options, resumed, {}, resume).reached);
+    EXPECT_EQ(resumed.step, uninterrupted.step) << "phase " << phase;
+    EXPECT_EQ(resumed.cell.length, uninterrupted.cell.length) << "phase " << phase;
+    EXPECT_EQ(resumed.cell.mass, uninterrupted.cell.mass) << "phase " << phase;
+    EXPECT_EQ(resumed.disks.x, uninterrupted.disks.x) << "phase " << phase;
+    EXPECT_EQ(resumed.disks.y, uninterrupted.disks.y) << "phase " << phase;
+    // A resumed run without the entry masses in its cursor cannot restore them: refused.
+    Engine bare_engine(*saved);
+    protocols::LoopControl bare = resume;
+    bare.cursor.values.clear();
+    EXPECT_THROW(protocols::compact_isotropically(bare_engine, options, ignored, {}, bare),
+                 std::invalid_argument);
   }
 }
 
