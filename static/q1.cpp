@@ -187,6 +187,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   double lambda = lambda0;
   double step = options.dq;
   CurvePoint point = measure(net, lambda, reference_length);
+  if (options.on_accepted) options.on_accepted(lambda, net);
 
   // The start itself may already be unstable (no increment has a stable consistent solution).
   PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
@@ -250,6 +251,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       p.new_contacts = s.new_contacts;
       if (options.hill) p.hill = hill_of(net);
       result.curve.push_back(p);
+      if (options.on_accepted) options.on_accepted(lambda, net);
       last_check = check;
       // Grow back after cuts, never beyond the user's step.
       if (++successes_since_cut >= 2 && step < options.dq) {

@@ -38,6 +38,14 @@ struct Q1Options {
   // shift-invert Arnoldi solves with the state's LU when that is indefinite.
   bool count_negative_eigenvalues = true;
   SolverOptions solver;
+  // Called with every accepted state: the start once prepared, then the state after each accepted
+  // step, with its load parameter; it is the state the run would return as network_at_q1 if it
+  // stopped there (load_stop), so a caller can hand states of one run to other solvers instead of
+  // re-running the stepping to each (drivers/stability_probe.hpp). A callback rather than a list
+  // of loads to copy: compare picks its states at fractions of q1, known only once the run has
+  // ended, while `granstab probe --at` knows its loads in advance; each keeps what it needs. It
+  // sees the state read-only and does not change the stepping; unset, it costs one test per step.
+  std::function<void(double load, const Network& net)> on_accepted;
 };
 
 struct CurvePoint {
