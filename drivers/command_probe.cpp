@@ -41,7 +41,11 @@ void run_probe(ProbeCommandOptions o) {
   o.run.rigid_limit = false;
   o.run.statics.hill = false;  // logged only: the path does not depend on it (checked)
   o.probe_options.equilibration = o.run.equilibration;
-  // The whole static run once: q1 and the compliance of the bound at every state.
+  // The whole static run once: q1, the compliance of the bound at every state, and the states at
+  // the loads asked for.
+  const double tolerance = crosscheck::static_load_tolerance(o.run);
+  std::vector<crosscheck::StaticState> states;
+  o.run.statics.on_accepted = crosscheck::keep_static_states(o.at, tolerance, states);
   const crosscheck::CrosscheckResult full = crosscheck::run_static_half(sample, o.run);
   const std::filesystem::path dir = o.out;
   std::filesystem::create_directories(dir);
@@ -57,15 +61,15 @@ void run_probe(ProbeCommandOptions o) {
          "stable\n";
   std::vector<crosscheck::ProbeResult> probes;
   for (const double q : o.at) {
-    const statics::StabilityResult to_q = crosscheck::static_run_to(sample, o.run, q);
-    const double load = to_q.curve.back().load;
-    if (load < q - 1e-6 * o.run.dq) {
-      std::printf("%9.6f beyond the static q1 = %.9g: not probed\n", q, to_q.q1);
+    const crosscheck::StaticState* at_q = crosscheck::static_state_at(states, q, tolerance);
+    if (!at_q) {
+      std::printf("%9.6f beyond the static q1 = %.9g: not probed\n", q, full.statics.q1);
       continue;
     }
-    const Configuration state = crosscheck::configuration_of_static_state(
-        to_q.network_at_q1, crosscheck::biaxial_start(sample, full.mu));
-    const std::vector<char> overlaps = crosscheck::overlapping_rattlers(to_q.network_at_q1, state);
+    const double load = at_q->load;
+    const Configuration state =
+        crosscheck::configuration_of_static_state(at_q->network, full.start);
+    const std::vector<char> overlaps = crosscheck::overlapping_rattlers(at_q->network, state);
     if (!o.save.empty()) {
       const std::filesystem::path file = std::filesystem::path(o.save) / state_name(q);
       write_configuration(state, file);

@@ -267,6 +267,14 @@ CrosscheckResult run_static_half(const Configuration& sample, const CrosscheckOp
   so.dq_min = std::min(so.dq_min, so.dq);
   so.control = statics::Control::stress;
   so.load_stop = options.q_max;
+  if (options.probe.states > 0) {
+    // compare --probe-states: the probed loads are fractions of q1, known only at the end.
+    so.on_accepted = [&states = out.static_states, then = options.statics.on_accepted](
+                         double load, const statics::Network& net) {
+      states.push_back({load, net});
+      if (then) then(load, net);
+    };
+  }
   auto t0 = std::chrono::steady_clock::now();
   out.statics = statics::find_q1(out.start, so);
   out.static_seconds = seconds_since(t0);

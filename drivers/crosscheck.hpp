@@ -172,6 +172,12 @@ void run_dynamic(const Configuration& from, const CrosscheckOptions& options, do
 std::string dynamic_run_state(const DynamicRun& run);
 DynamicRun parse_dynamic_run_state(const std::string& text);
 
+// One accepted state of a static run (statics::Q1Options::on_accepted) and its load.
+struct StaticState {
+  double load = 0.0;
+  statics::Network network;
+};
+
 struct CrosscheckResult {
   Configuration start;
   double mu = 0.0;
@@ -181,6 +187,10 @@ struct CrosscheckResult {
   DynamicRun dynamic;
   Comparison comparison;
   double static_seconds = 0.0, dynamic_seconds = 0.0, rigid_seconds = 0.0;
+  // With probe.states > 0: every accepted state of the static run, in load order (a copy of the
+  // network each: 7 MB for the 835 states to q1 at N = 100, mu = 0.5), from which
+  // probe_static_states takes its states once q1 is known instead of running the stepping again.
+  std::vector<StaticState> static_states;
   std::vector<ProbeResult> probes;  // compare --probe-states
   double probe_seconds = 0.0;
 };

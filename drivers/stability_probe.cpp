@@ -113,15 +113,37 @@ Configuration without_disks(const Configuration& config, const std::vector<char>
   return c;
 }
 
+double static_load_tolerance(const CrosscheckOptions& options) {
+  return 1e-6 * options.dq / options.static_substeps;
+}
+
 statics::StabilityResult static_run_to(const Configuration& start, const CrosscheckOptions& options,
                                        double q) {
   CrosscheckOptions o = options;
-  // The static loads are sums of steps: stop at the state within round-off of q.
-  o.q_max = q - 1e-6 * options.dq / options.static_substeps;
+  o.q_max = q - static_load_tolerance(options);
   o.rigid_limit = false;
   // run_static_half starts from biaxial_start(sample): the start is that state already (its
   // reference lengths are its lengths), and biaxial_start of it is itself.
   return run_static_half(start, o).statics;
+}
+
+std::function<void(double, const statics::Network&)> keep_static_states(
+    std::vector<double> at, double tolerance, std::vector<StaticState>& states) {
+  std::sort(at.begin(), at.end());
+  // States come in increasing load: keep one when it reaches the lowest load not reached before.
+  return [at = std::move(at), tolerance, &states, next = std::size_t{0}](
+             double load, const statics::Network& net) mutable {
+    if (next == at.size() || load < at[next] - tolerance) return;
+    states.push_back({load, net});
+    while (next < at.size() && load >= at[next] - tolerance) ++next;
+  };
+}
+
+const StaticState* static_state_at(const std::vector<StaticState>& states, double q,
+                                   double tolerance) {
+  for (const StaticState& s : states)
+    if (s.load >= q - tolerance) return &s;
+  return nullptr;
 }
 
 ProbeResult probe_static_state(const Configuration& static_state, const std::vector<char>& remove,
@@ -181,7 +203,7 @@ ProbeResult probe_static_state(const Configuration& static_state, const std::vec
   return r;
 }
 
-std::vector<ProbeResult> probe_static_states(const Configuration& sample,
+std::vector<ProbeResult> probe_static_states(const Configuration& /*sample*/,
                                              const CrosscheckResult& result,
                                              const CrosscheckOptions& options) {
   std::vector<ProbeResult> probes;
@@ -194,25 +216,29 @@ std::vector<ProbeResult> probe_static_states(const Configuration& sample,
   po.remove_overlapping_rattlers = options.probe.remove_overlapping_rattlers;
   po.equilibration = options.equilibration;
   po.engine = options.engine;
-  CrosscheckOptions quick = options;
-  quick.statics.hill = false;  // logged only: the static path does not depend on it
+  if (result.static_states.empty())
+    throw std::invalid_argument(
+        "probe_static_states: the static run kept no states (run it with "
+        "probe.states > 0)");
   const double q0 = result.statics.curve.front().load;
   const double step = options.dq / options.static_substeps;
   for (int k = 1; k <= k_states; ++k) {
-    statics::StabilityResult to_q;
-    const statics::StabilityResult* run = &result.statics;  // k = K: the state at q1
+    // k = K: the state at q1.
+    const statics::Network* net = &result.statics.network_at_q1;
+    double load = result.statics.curve.back().load;
     if (k < k_states) {
       const double q = q0 + std::floor((result.statics.q1 - q0) * k / k_states / step) * step;
       if (!(q > q0)) continue;
-      to_q = static_run_to(sample, quick, q);
-      run = &to_q;
+      const StaticState* s =
+          static_state_at(result.static_states, q, static_load_tolerance(options));
+      if (!s) throw std::logic_error("probe_static_states: no static state at q below q1");
+      net = &s->network;
+      load = s->load;
     }
-    const statics::Network& net = run->network_at_q1;
-    const double load = run->curve.back().load;
-    const Configuration state = configuration_of_static_state(net, result.start);
+    const Configuration state = configuration_of_static_state(*net, result.start);
     const double bound = static_bound_eps2(result.statics.curve, load, result.pressure,
                                            options.equilibration.tolerances);
-    probes.push_back(probe_static_state(state, overlapping_rattlers(net, state), load, bound, po));
+    probes.push_back(probe_static_state(state, overlapping_rattlers(*net, state), load, bound, po));
   }
   return probes;
 }

@@ -7,6 +7,7 @@
 // eps2_uncertainty); an unstable one rearranges. No physics here: the engine, the protocols and
 // the measurements do the work.
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -37,9 +38,25 @@ Configuration without_disks(const Configuration& config, const std::vector<char>
 
 // The compare run's static stepping (same options as run_static_half) from `start`, stopped at the
 // first state with load >= q (to round-off): result.network_at_q1 is that state, the last curve
-// point its measurements.
+// point its measurements. One run per state: compare and probe take their states from their own
+// run instead (below); this is the reference the test of that checks against.
 statics::StabilityResult static_run_to(const Configuration& start, const CrosscheckOptions& options,
                                        double q);
+
+// Round-off of the static loads, sums of steps: a state within 1e-6 of the static step below q
+// is the state at q (static_run_to stops there).
+double static_load_tolerance(const CrosscheckOptions& options);
+
+// statics::Q1Options::on_accepted that keeps, for each load q of `at`, a copy of the run's first
+// accepted state with load >= q - tolerance: the state static_run_to(q) ends at. `states` (in load
+// order, one per distinct state) must outlive the run.
+std::function<void(double, const statics::Network&)> keep_static_states(
+    std::vector<double> at, double tolerance, std::vector<StaticState>& states);
+
+// The first of `states` (in load order) with load >= q - tolerance; nullptr when the run ended
+// below q.
+const StaticState* static_state_at(const std::vector<StaticState>& states, double q,
+                                   double tolerance);
 
 struct ProbeOptions {
   double f0 = 1e-4;  // perturbation forces, units of aP (SPEC §3.5); 0: hold only
@@ -61,7 +78,10 @@ ProbeResult probe_static_state(const Configuration& state, const std::vector<cha
 double stable_up_to(const std::vector<ProbeResult>& probes);
 
 // compare --probe-states K: the static states of the compare run at q = k q1 / K (k = 1..K, on
-// the static run's grid; k = K is the state at q1 itself), probed with options.probe.
+// the static run's grid; k = K is the state at q1 itself), probed with options.probe. The states
+// come from result.static_states (run_static_half keeps them when options.probe.states > 0);
+// `sample` is no longer read (the states used to be re-run from it) and goes once the caller in
+// command_compare.cpp drops it.
 std::vector<ProbeResult> probe_static_states(const Configuration& sample,
                                              const CrosscheckResult& result,
                                              const CrosscheckOptions& options);
