@@ -252,7 +252,7 @@ void run_compare(const protocols::Invocation& invocation, const protocols::Check
   crosscheck::compare_halves(r, o.run);
   // After the dynamic half (not checkpointed: deterministic, seconds on the shipped sample).
   const auto probe_start = std::chrono::steady_clock::now();
-  r.probes = crosscheck::probe_static_states(sample, r, o.run);
+  r.probes = crosscheck::probe_static_states(r, o.run);
   r.probe_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - probe_start).count();
 

@@ -203,8 +203,7 @@ ProbeResult probe_static_state(const Configuration& static_state, const std::vec
   return r;
 }
 
-std::vector<ProbeResult> probe_static_states(const Configuration& /*sample*/,
-                                             const CrosscheckResult& result,
+std::vector<ProbeResult> probe_static_states(const CrosscheckResult& result,
                                              const CrosscheckOptions& options) {
   std::vector<ProbeResult> probes;
   const int k_states = options.probe.states;

@@ -79,11 +79,8 @@ double stable_up_to(const std::vector<ProbeResult>& probes);
 
 // compare --probe-states K: the static states of the compare run at q = k q1 / K (k = 1..K, on
 // the static run's grid; k = K is the state at q1 itself), probed with options.probe. The states
-// come from result.static_states (run_static_half keeps them when options.probe.states > 0);
-// `sample` is no longer read (the states used to be re-run from it) and goes once the caller in
-// command_compare.cpp drops it.
-std::vector<ProbeResult> probe_static_states(const Configuration& sample,
-                                             const CrosscheckResult& result,
+// come from result.static_states (run_static_half keeps them when options.probe.states > 0).
+std::vector<ProbeResult> probe_static_states(const CrosscheckResult& result,
                                              const CrosscheckOptions& options);
 
 }  // namespace granstab::crosscheck

@@ -135,7 +135,7 @@ TEST(StabilityProbe, CompareProbesStatesUpToTheEndOfTheStaticRun) {
   o.probe.states = 2;
   const CrosscheckResult r = run_static_half(sample, o);
   ASSERT_NEAR(r.statics.q1, 0.2, 1e-9);
-  const std::vector<ProbeResult> probes = probe_static_states(sample, r, o);
+  const std::vector<ProbeResult> probes = probe_static_states(r, o);
   ASSERT_EQ(probes.size(), 2u);
   EXPECT_NEAR(probes[0].q, 0.1, 1e-9);
   EXPECT_NEAR(probes[1].q, 0.2, 1e-9);
@@ -145,7 +145,7 @@ TEST(StabilityProbe, CompareProbesStatesUpToTheEndOfTheStaticRun) {
   }
   EXPECT_NEAR(stable_up_to(probes), 0.2, 1e-9);
   o.probe.states = 0;
-  EXPECT_TRUE(probe_static_states(sample, r, o).empty());
+  EXPECT_TRUE(probe_static_states(r, o).empty());
 }
 
 }  // namespace
