@@ -59,7 +59,9 @@ struct LuStatistics {
   long too_many = 0;          // updates refused (too many changed columns or too high a rank)
   long solves = 0;            // solves with UMFPACK's iterative refinement (solve, solve_transpose)
   long unrefined_solves = 0;  // solves without it (solve_unrefined, low-rank updates' inner ones)
-  double solve_seconds = 0.0;  // thread CPU seconds of the refined UMFPACK solves
+  double solve_seconds = 0.0;     // thread CPU seconds of the refined UMFPACK solves
+  double symbolic_seconds = 0.0;  // thread CPU seconds of the symbolic analyses
+  double numeric_seconds = 0.0;   // thread CPU seconds of the numeric factorisations
 };
 LuStatistics& lu_statistics();
 

@@ -1,8 +1,9 @@
 // Timing of the static solver (issue #5): one load step split into assembly, factorisation and
 // complementarity, and optionally the whole q1 run, on a shipped periodic sample tiled
 // nx x ny times. Not part of ctest.
-//   bench_static SAMPLE [nx ny] [steps] [q1[-fixed][-lowrank] [CURVE.csv]]
-// -fixed: with SolverOptions::fixed_pattern (symbolic reuse across status changes); -lowrank: with
+//   bench_static SAMPLE [nx ny] [steps] [q1[-fixed|-statuspattern][-lowrank] [CURVE.csv]]
+// -fixed / -statuspattern: SolverOptions::fixed_pattern on / off (symbolic reuse across status
+// changes, or the pattern of each status set) instead of its default; -lowrank: with
 // LuReuse::low_rank (low-rank updates of a recent LU instead of refactorisations), for the whole
 // run (load steps and q1).
 // With CURVE.csv, the q1 run's curve (the columns of granstab q1 that do not depend on timing or
@@ -24,7 +25,9 @@ using namespace granstab;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s SAMPLE [nx ny] [steps] [q1[-fixed][-lowrank] [CURVE.csv]]\n",
+    std::fprintf(stderr,
+                 "usage: %s SAMPLE [nx ny] [steps] [q1[-fixed|-statuspattern][-lowrank] "
+                 "[CURVE.csv]]\n",
                  argv[0]);
     return 2;
   }
@@ -32,7 +35,8 @@ int main(int argc, char** argv) {
   const int steps = argc > 4 ? std::atoi(argv[4]) : 10;
   const std::string mode = argc > 5 ? argv[5] : "";
   const bool q1 = mode.rfind("q1", 0) == 0;
-  const bool fixed = q1 && mode.find("-fixed") != std::string::npos;
+  const bool fixed = mode.find("-fixed") != std::string::npos;
+  const bool status_pattern = mode.find("-statuspattern") != std::string::npos;
   statics::default_lu_reuse().low_rank = q1 && mode.find("-lowrank") != std::string::npos;
   const Configuration config = bench::tile(read_configuration(argv[1]), nx, ny);
   using Clock = std::chrono::steady_clock;
@@ -69,7 +73,7 @@ int main(int argc, char** argv) {
   if (q1) {
     statics::Q1Options o;
     o.hill = false;
-    o.solver.fixed_pattern = fixed;
+    if (fixed || status_pattern) o.solver.fixed_pattern = fixed;
     const auto t2 = Clock::now();
     const statics::StabilityResult r = statics::find_q1(config, o);
     int rejected = 0;
@@ -102,6 +106,8 @@ int main(int argc, char** argv) {
         lu.numeric, lu.symbolic, lu.low_rank,
         lu.low_rank > 0 ? double(lu.rank_sum) / lu.low_rank : 0.0, lu.too_many, lu.solves,
         lu.solve_seconds, lu.unrefined_solves);
+    std::printf("LuFactor CPU: symbolic analyses %.2f s, numeric factorisations %.2f s\n",
+                lu.symbolic_seconds, lu.numeric_seconds);
     const statics::NegativeEigenvalueStatistics& e = statics::negative_eigenvalue_statistics();
     std::printf(
         "negative_eigenvalues: %ld calls, symmetric inertia %.2f s CPU; %ld Arnoldi (%ld solves, "
