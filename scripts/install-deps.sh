@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs granstab's Debian dependencies (DEPS.md) when any is missing; a no-op run takes ~1 s.
 set -euo pipefail
-packages=(g++ cmake make pkg-config libeigen3-dev libsuitesparse-dev coinor-libipopt-dev
+packages=(g++ cmake make ninja-build pkg-config libeigen3-dev libsuitesparse-dev coinor-libipopt-dev
   libspectra-dev libcli11-dev libtomlplusplus-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-munkres)
 missing=()
