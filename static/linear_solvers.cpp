@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 
@@ -246,6 +247,8 @@ LuReuse& default_lu_reuse() {
   return reuse;
 }
 
+void forget_factorisations() { base_factors().clear(); }
+
 LuStatistics& lu_statistics() {
   thread_local LuStatistics statistics;
   return statistics;
@@ -292,8 +295,90 @@ struct LuFactor::Impl {
   LuReuse reuse;
   std::shared_ptr<const NumericLu> full;  // the factorisation of k itself
   std::unique_ptr<LowRankUpdate> update;  // or a low-rank update of a base factorisation
-  SparseMatrix k;                         // k, for the refinement of updated solves
+  SparseMatrix k;                         // k, for the refinement of updated solves and for GMRES
+  // Deferred factorisation (LuReuse::krylov): GMRES on k preconditioned by this factorisation.
+  std::shared_ptr<const NumericLu> preconditioner;
+  bool deferred = false;
+  bool singular = false;  // the deferred factorisation found k singular
 };
+
+namespace {
+
+// Right-preconditioned GMRES on K x = b (transposed: K^T x = b), M^-1 the unrefined solve with
+// the factors of another matrix, restarted when the recurrence's residual drifts from the true
+// one. Converged: |b - K x| <= tolerance | |K| |x| + |b| | (a normwise backward error, as
+// UMFPACK's refinement judges its solves componentwise), checked on the true residual. False
+// after max_iterations preconditioner solves; iterations counts them.
+bool gmres(const SparseMatrix& k, const NumericLu& m, const Eigen::VectorXd& b, bool transposed,
+           double tolerance, int max_iterations, Eigen::VectorXd& x, int& iterations) {
+  const int sys = transposed ? UMFPACK_At : UMFPACK_A;
+  const SparseMatrix k_abs = k.cwiseAbs();
+  const auto apply = [&](const SparseMatrix& a, const Eigen::VectorXd& v) {
+    return transposed ? Eigen::VectorXd(a.transpose() * v) : Eigen::VectorXd(a * v);
+  };
+  const Eigen::Index n = b.size();
+  x = m.solve(sys, b, false);
+  iterations = 1;
+  Eigen::MatrixXd v(n, max_iterations + 1);
+  Eigen::MatrixXd h(max_iterations + 1, max_iterations);
+  Eigen::VectorXd g(max_iterations + 1), cs(max_iterations), sn(max_iterations);
+  while (true) {
+    const Eigen::VectorXd r = b - apply(k, x);
+    const double target = tolerance * (apply(k_abs, x.cwiseAbs()) + b.cwiseAbs()).norm();
+    const double beta = r.norm();
+    if (beta <= target) return true;
+    const int cycle = max_iterations - iterations;
+    if (cycle < 2) return false;
+    h.setZero();
+    g.setZero();
+    v.col(0) = r / beta;
+    g[0] = beta;
+    int j = 0;
+    for (; j < cycle - 1; ++j) {
+      Eigen::VectorXd w = apply(k, m.solve(sys, v.col(j), false));
+      ++iterations;
+      // Classical Gram-Schmidt, twice: as stable as the modified one, in matrix-vector products.
+      for (int pass = 0; pass < 2; ++pass) {
+        const Eigen::VectorXd c = v.leftCols(j + 1).transpose() * w;
+        w -= v.leftCols(j + 1) * c;
+        h.col(j).head(j + 1) += c;
+      }
+      const double next = w.norm();
+      if (next > 0.0) v.col(j + 1) = w / next;
+      h(j + 1, j) = next;
+      for (int i = 0; i < j; ++i) {  // the earlier Givens rotations
+        const double t = cs[i] * h(i, j) + sn[i] * h(i + 1, j);
+        h(i + 1, j) = -sn[i] * h(i, j) + cs[i] * h(i + 1, j);
+        h(i, j) = t;
+      }
+      const double rho = std::hypot(h(j, j), h(j + 1, j));
+      if (rho == 0.0) return false;  // K M^-1 singular on the Krylov space
+      cs[j] = h(j, j) / rho;
+      sn[j] = h(j + 1, j) / rho;
+      h(j, j) = rho;
+      h(j + 1, j) = 0.0;
+      g[j + 1] = -sn[j] * g[j];
+      g[j] = cs[j] * g[j];
+      if (std::abs(g[j + 1]) <= 0.5 * target || next == 0.0) {
+        ++j;
+        break;
+      }
+      // Give up early when the mean rate so far would take more than twice the bound: the
+      // iterations left would be wasted on a factorisation anyway.
+      if (j >= 5) {
+        const double rate = std::log(std::abs(g[j + 1]) / beta) / (j + 1);
+        if (rate >= 0.0 || std::log(0.5 * target / beta) / rate > 2.0 * max_iterations)
+          return false;
+      }
+    }
+    if (j == cycle - 1 && std::abs(g[j]) > 0.5 * target) return false;
+    const Eigen::VectorXd y = h.topLeftCorner(j, j).triangularView<Eigen::Upper>().solve(g.head(j));
+    x += m.solve(sys, v.leftCols(j) * y, false);
+    ++iterations;
+  }
+}
+
+}  // namespace
 
 namespace {
 
@@ -389,6 +474,9 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   Impl& m = *impl_;
   m.full.reset();
   m.update.reset();
+  m.preconditioner.reset();
+  m.deferred = false;
+  m.singular = false;
   det_sign_ = 0;
   log10_det_ = -INFINITY;
   symbolic_reused_ = false;
@@ -397,7 +485,21 @@ bool LuFactor::factorize(const SparseMatrix& k) {
     log10_det_ = 0.0;
     return true;
   }
-  if (m.reuse.low_rank) {
+  if (m.reuse.krylov) {
+    for (const auto& base : base_factors())
+      if (base->k.rows() == k.rows()) {
+        m.preconditioner = base;  // the most recent one of this size
+        break;
+      }
+    if (m.preconditioner) {
+      m.k = k;
+      m.k.makeCompressed();
+      m.deferred = true;
+      symbolic_reused_ = true;
+      ++lu_statistics().deferred;
+      return true;
+    }
+  } else if (m.reuse.low_rank) {
     SparseMatrix kc = k;
     kc.makeCompressed();
     // The recent factorisation from which k differs in the fewest columns.
@@ -451,9 +553,43 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
   m.full = lu;
-  if (m.reuse.low_rank) remember_base(std::move(lu));
+  if (m.reuse.low_rank || m.reuse.krylov) remember_base(std::move(lu));
   return true;
 }
+
+bool LuFactor::factorise_deferred() const {
+  Impl& m = *impl_;
+  if (!m.deferred) return !m.singular;
+  m.deferred = false;
+  m.preconditioner.reset();
+  ++lu_statistics().deferred_factorised;
+  auto lu = std::make_shared<NumericLu>();
+  lu->k = std::move(m.k);
+  bool reused = false;
+  if (!factorize_numeric(*lu, reused)) {
+    m.singular = true;
+    det_sign_ = 0;
+    log10_det_ = -INFINITY;
+    return false;
+  }
+  det_sign_ = lu->sign;
+  log10_det_ = lu->log10_det;
+  m.full = lu;
+  remember_base(std::move(lu));
+  return true;
+}
+
+int LuFactor::determinant_sign() const {
+  factorise_deferred();
+  return det_sign_;
+}
+
+double LuFactor::log10_abs_determinant() const {
+  factorise_deferred();
+  return log10_det_;
+}
+
+bool LuFactor::factorised() const { return !impl_->deferred; }
 
 namespace {
 // x = K^-1 b with one step of iterative refinement against K itself.
@@ -466,25 +602,56 @@ Eigen::VectorXd refined(const LowRankUpdate& up, const SparseMatrix& k, const Ei
 }
 }  // namespace
 
-Eigen::VectorXd LuFactor::solve(const Eigen::VectorXd& b) const {
+namespace {
+// GMRES with the deferred factorisation's preconditioner; false when over the bound.
+bool krylov_solve(const SparseMatrix& k, const NumericLu& preconditioner, const LuReuse& reuse,
+                  const Eigen::VectorXd& b, bool transposed, Eigen::VectorXd& x) {
+  LuStatistics& statistics = lu_statistics();
+  const double t0 = thread_seconds();
+  int iterations = 0;
+  const bool converged = gmres(k, preconditioner, b, transposed, reuse.krylov_tolerance,
+                               reuse.max_krylov_iterations, x, iterations);
+  statistics.krylov_seconds += thread_seconds() - t0;
+  statistics.krylov_iterations += iterations;
+  ++(converged ? statistics.krylov_solves : statistics.krylov_failed);
+  return converged;
+}
+
+Eigen::VectorXd not_a_solution(Eigen::Index n) {
+  return Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
+}
+}  // namespace
+
+bool LuFactor::try_solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  x = solve(b);
+  return !impl_->singular;
+}
+
+Eigen::VectorXd LuFactor::solve(const Eigen::VectorXd& b) const { return solve_system(b, false); }
+
+Eigen::VectorXd LuFactor::solve_transpose(const Eigen::VectorXd& b) const {
+  return solve_system(b, true);
+}
+
+Eigen::VectorXd LuFactor::solve_system(const Eigen::VectorXd& b, bool transposed) const {
   if (b.size() == 0) return b;
-  if (impl_->update) return refined(*impl_->update, impl_->k, b, false);
-  if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
-  return impl_->full->solve(UMFPACK_A, b);
+  const Impl& m = *impl_;
+  if (m.deferred) {
+    Eigen::VectorXd x;
+    if (krylov_solve(m.k, *m.preconditioner, m.reuse, b, transposed, x)) return x;
+    if (!factorise_deferred()) return not_a_solution(b.size());
+  }
+  if (m.update) return refined(*m.update, m.k, b, transposed);
+  if (!m.full) throw std::logic_error("LuFactor::solve without a successful factorisation");
+  return m.full->solve(transposed ? UMFPACK_At : UMFPACK_A, b);
 }
 
 Eigen::VectorXd LuFactor::solve_unrefined(const Eigen::VectorXd& b) const {
   if (b.size() == 0) return b;
+  if (!factorise_deferred()) return not_a_solution(b.size());
   if (impl_->update) return impl_->update->apply(b, false);
   if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
   return impl_->full->solve(UMFPACK_A, b, false);
-}
-
-Eigen::VectorXd LuFactor::solve_transpose(const Eigen::VectorXd& b) const {
-  if (b.size() == 0) return b;
-  if (impl_->update) return refined(*impl_->update, impl_->k, b, true);
-  if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
-  return impl_->full->solve(UMFPACK_At, b);
 }
 
 Reduction make_reduction(const std::vector<char>& keep) {

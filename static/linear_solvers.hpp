@@ -46,9 +46,27 @@ struct LuReuse {
   bool low_rank = false;
   int max_columns = 96;  // changed columns beyond which K is factorised afresh
   int max_rank = 40;     // rank of U V^T beyond which K is factorised afresh (r solves with K0)
+  // Deferred factorisation: a matrix of the size of a recent full factorisation K0 of this thread
+  // (a complementarity loop changes a few contact blocks, the corrector and the next state's
+  // check O(dq) of the geometry) is not factorised; its solves run GMRES on K itself, right-
+  // preconditioned by K0's factors. K is factorised when GMRES does not reach the tolerance in
+  // max_krylov_iterations, and whenever an exact operator is asked for: the determinant (sign
+  // and magnitude) and solve_unrefined (the eigensolvers' operator). Takes precedence over
+  // low_rank.
+  bool krylov = false;
+  int max_krylov_iterations = 24;  // about the cost of one numeric factorisation at N = 5600
+  // |b - K x| <= krylov_tolerance | |K| |x| + |b| |: at 1e-14 a third of the GMRES solves at
+  // N = 5600 did not get there in 24 iterations (the residual's round-off floor); the path and
+  // q1 are the same at 1e-12 and 1e-14 (bench/README.md, "Session 6").
+  double krylov_tolerance = 1e-12;
 };
 // The reuse of a default-constructed LuFactor in this thread.
 LuReuse& default_lu_reuse();
+
+// Drops this thread's recent full factorisations (the bases of low-rank updates, the
+// preconditioners of deferred factorisations): what a run computes after it does not depend on
+// what the thread factorised before (the same bits run after run).
+void forget_factorisations();
 
 // Counters of this thread's LuFactor work (bench/static).
 struct LuStatistics {
@@ -59,6 +77,12 @@ struct LuStatistics {
   long too_many = 0;          // updates refused (too many changed columns or too high a rank)
   long solves = 0;            // solves with UMFPACK's iterative refinement (solve, solve_transpose)
   long unrefined_solves = 0;  // solves without it (solve_unrefined, low-rank updates' inner ones)
+  long deferred = 0;          // factorisations deferred (LuReuse::krylov)
+  long deferred_factorised = 0;   // ... and made later for an exact operator (determinant etc.)
+  long krylov_solves = 0;         // GMRES solves, converged
+  long krylov_iterations = 0;     // their iterations (one preconditioner solve each)
+  long krylov_failed = 0;         // GMRES solves over the bound: K factorised instead
+  double krylov_seconds = 0.0;    // thread CPU seconds of the GMRES solves (failed ones included)
   double solve_seconds = 0.0;     // thread CPU seconds of the refined UMFPACK solves
   double symbolic_seconds = 0.0;  // thread CPU seconds of the symbolic analyses
   double numeric_seconds = 0.0;   // thread CPU seconds of the numeric factorisations
@@ -78,22 +102,33 @@ class LuFactor {
   // sparsity pattern; only the numeric factorisation is then redone. With LuReuse::low_rank, a
   // low-rank update of a recent factorisation may replace the numeric factorisation.
   bool factorize(const SparseMatrix& k);
-  // Whether the last factorize reused a cached symbolic analysis (or made none: low-rank update).
+  // Whether the last factorize reused a cached symbolic analysis (or made none: low-rank update,
+  // deferred factorisation).
   bool symbolic_reused() const { return symbolic_reused_; }
+  // K^-1 b. With a deferred factorisation (LuReuse::krylov) K may turn out singular only here:
+  // try_solve then returns false, solve a vector of NaN.
+  bool try_solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::VectorXd solve_transpose(const Eigen::VectorXd& b) const;
   // K^-1 b without UMFPACK's iterative refinement (nor the low-rank update's): the exact inverse
   // of the computed factors, a fixed linear operator for eigensolvers; about a third of the cost.
+  // Factorises a deferred K first.
   Eigen::VectorXd solve_unrefined(const Eigen::VectorXd& b) const;
-  // Sign of det K (+1, -1; 0 when singular) and log10 |det K|.
-  int determinant_sign() const { return det_sign_; }
-  double log10_abs_determinant() const { return log10_det_; }
+  // Sign of det K (+1, -1; 0 when singular) and log10 |det K|, always from a factorisation of K
+  // or the exact determinant identity of a low-rank update (a deferred K is factorised now).
+  int determinant_sign() const;
+  double log10_abs_determinant() const;
+  // Whether K is factorised (or updated) already, i.e. the determinant costs nothing.
+  bool factorised() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  int det_sign_ = 0;
-  double log10_det_ = 0.0;
+  // Factorises a deferred K; false when singular.
+  bool factorise_deferred() const;
+  Eigen::VectorXd solve_system(const Eigen::VectorXd& b, bool transposed) const;
+  mutable int det_sign_ = 0;
+  mutable double log10_det_ = 0.0;
   bool symbolic_reused_ = false;
 };
 

@@ -33,7 +33,9 @@ bool solve_factored(const SparseMatrix& k, const std::vector<char>& kept, const 
                     const Eigen::VectorXd& b, Eigen::VectorXd& x, bool check_pinned,
                     double tolerance) {
   const Reduction r = make_reduction(kept);
-  x = expand(lu.solve(reduce(b, r)), r, static_cast<int>(k.rows()));
+  Eigen::VectorXd reduced;
+  if (!lu.try_solve(reduce(b, r), reduced)) return false;
+  x = expand(reduced, r, static_cast<int>(k.rows()));
   if (!check_pinned || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows()) return true;
   const Eigen::VectorXd misfit = k * x - b;
   const Eigen::VectorXd size = k.cwiseAbs() * x.cwiseAbs() + b.cwiseAbs();
@@ -58,6 +60,12 @@ bool solve_kept(const SparseMatrix& k, const std::vector<char>& kept, const Eige
 }
 
 }  // namespace
+
+LuReuse lu_reuse(const SolverOptions& options) {
+  LuReuse reuse = default_lu_reuse();
+  reuse.krylov = reuse.krylov || options.krylov_solves;
+  return reuse;
+}
 
 ResidualScale residual_scale(const Network& net, const std::vector<ContactState>& states) {
   ResidualScale s;
@@ -97,7 +105,7 @@ NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
                                 const ResidualScale& scale, const SolverOptions& options,
                                 Timings* timings) {
   NewtonResult result;
-  LuFactor lu;
+  LuFactor lu(lu_reuse(options));
   std::vector<ContactState> states = evaluate_contacts(net, dq, forced);
   Eigen::VectorXd r = residual(net, dq, states);
   double norm = relative_residual(net, r, scale);
@@ -311,7 +319,7 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
 }  // namespace
 
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings,
-                        const Eigen::VectorXd* rhs, const PredictorResult* warm) {
+                        const Eigen::VectorXd* rhs, const PredictorResult* warm, bool determinant) {
   const auto loop_start = Clock::now();
   PredictorResult p;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
@@ -406,7 +414,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       p.tangent = assemble_tangent(net, states, p.statuses, parts);
       p.kept = kept_dofs(net, states, p.statuses);
       if (timings) timings->assembly += seconds_since(t0);
-      factor = std::make_shared<LuFactor>();
+      factor = std::make_shared<LuFactor>(lu_reuse(options));
       if (!solve_kept(p.tangent, p.kept, r0, *factor, p.dq, timings, true, eta)) {
         p.failure = "singular";
         break;
@@ -448,9 +456,19 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       }
     }
     if (consistent) {
+      if (determinant || factor->factorised()) {
+        // A deferred factorisation is made here (the check's sign, its eigenvalue count and the
+        // next step's warm start use it); singular is then found only now.
+        const auto t0 = Clock::now();
+        p.determinant_sign = factor->determinant_sign();
+        if (timings) timings->factorisation += seconds_since(t0);
+        if (p.determinant_sign == 0) {
+          p.failure = "singular";
+          break;
+        }
+      }
       p.ok = true;
       p.failure.clear();
-      p.determinant_sign = factor->determinant_sign();
       p.factor = factor;
       break;
     }
@@ -512,7 +530,7 @@ Eigen::VectorXd chord_iterations(const Network& net, const PredictorResult& p, E
 StepResult load_step(Network& net, const SolverOptions& options, Timings* timings,
                      const PredictorResult* warm) {
   StepResult step;
-  step.predictor = predict(net, options, timings, nullptr, warm);
+  step.predictor = predict(net, options, timings, nullptr, warm, false);
   if (!step.predictor.ok) {
     step.failure = "predictor: " + step.predictor.failure;
     return step;

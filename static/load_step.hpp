@@ -40,7 +40,16 @@ struct SolverOptions {
   // above the rigid limit of the start network and makes it depend on the ordering again
   // (docs/static.md, "Rattlers closed on by the cage").
   bool push_rattlers = false;
+  // The solves of a complementarity loop and of the corrector by GMRES preconditioned with the
+  // latest LU of the thread instead of a new LU each (LuReuse::krylov); the check's determinant
+  // sign and negative-eigenvalue count still factorise K exactly. Same path and q1 on the
+  // shipped samples; q1 at N = 5600 1028 -> 457 LU factorisations, 142.6 -> 124.1 s CPU
+  // (docs/static.md, Performance). Off: the flip awaits a full ctest run with it on.
+  bool krylov_solves = false;
 };
+
+// The LuFactor reuse of the load step's factorisations: this thread's default plus the options'.
+LuReuse lu_reuse(const SolverOptions& options);
 
 // Force, torque and cell-row scales of the relative residual (mean contact force, mean radius,
 // prescribed stress times area).
@@ -81,7 +90,7 @@ struct PredictorResult {
   bool no_solution = false;
   Eigen::VectorXd dq;
   std::vector<ContactStatus> statuses;  // consistent statuses of the increment
-  int determinant_sign = 0;             // of K(statuses) on the kept dofs
+  int determinant_sign = 0;  // of K(statuses) on the kept dofs (0 if not asked for and unknown)
   int iterations = 0;
   SparseMatrix tangent;              // K(statuses) on all dofs
   std::vector<char> kept;            // dofs kept (floppy rotations pinned)
@@ -96,10 +105,11 @@ struct PredictorResult {
 // loads of the end of the step.
 // With rhs given, it replaces R(0) (the stability check solves for a pure load increment); with
 // warm given (a loop run at the same state), the loop starts from its statuses instead of
-// classify_contacts, and reuses its factor while the statuses agree.
+// classify_contacts, and reuses its factor while the statuses agree. determinant: the sign of
+// det K(statuses) is wanted (with deferred factorisations it costs an LU; without, nothing).
 PredictorResult predict(const Network& net, const SolverOptions& options,
                         Timings* timings = nullptr, const Eigen::VectorXd* rhs = nullptr,
-                        const PredictorResult* warm = nullptr);
+                        const PredictorResult* warm = nullptr, bool determinant = true);
 
 struct StepResult {
   bool ok = false;

@@ -182,6 +182,9 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   if (!(options.dq > 0.0) || !(options.dq_min > 0.0) || options.dq_min > options.dq)
     throw std::invalid_argument("Q1Options: need 0 < dq_min <= dq");
   StabilityResult result;
+  // Deferred factorisations are preconditioned by earlier ones: start every run from none, so
+  // that a run gives the same bits whatever ran before it in this thread.
+  forget_factorisations();
   path(net, lambda0);
   prepare(net, options.solver);
   double lambda = lambda0;

@@ -1,11 +1,15 @@
 // Timing of the static solver (issue #5): one load step split into assembly, factorisation and
 // complementarity, and optionally the whole q1 run, on a shipped periodic sample tiled
 // nx x ny times. Not part of ctest.
-//   bench_static SAMPLE [nx ny] [steps] [q1[-fixed|-statuspattern][-lowrank] [CURVE.csv]]
+//   bench_static SAMPLE [nx ny] [steps] [q1[-fixed|-statuspattern][-lowrank][-krylov|-exact]
+//   [CURVE.csv]]
 // -fixed / -statuspattern: SolverOptions::fixed_pattern on / off (symbolic reuse across status
 // changes, or the pattern of each status set) instead of its default; -lowrank: with
 // LuReuse::low_rank (low-rank updates of a recent LU instead of refactorisations), for the whole
-// run (load steps and q1).
+// run (load steps and q1); -krylov / -exact: SolverOptions::krylov_solves on / off (GMRES with
+// deferred factorisations, or an LU per solve) instead of its default. Environment:
+// GRANSTAB_KRYLOV_TOLERANCE, GRANSTAB_KRYLOV_MAX_ITERATIONS, GRANSTAB_LOWRANK_MAX_COLUMNS,
+// GRANSTAB_LOWRANK_MAX_RANK override the LuReuse limits.
 // With CURVE.csv, the q1 run's curve (the columns of granstab q1 that do not depend on timing or
 // the Hill indicator) is written there, to compare solver changes.
 #include <chrono>
@@ -25,10 +29,11 @@ using namespace granstab;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr,
-                 "usage: %s SAMPLE [nx ny] [steps] [q1[-fixed|-statuspattern][-lowrank] "
-                 "[CURVE.csv]]\n",
-                 argv[0]);
+    std::fprintf(
+        stderr,
+        "usage: %s SAMPLE [nx ny] [steps] [q1[-fixed|-statuspattern][-lowrank][-krylov|-exact] "
+        "[CURVE.csv]]\n",
+        argv[0]);
     return 2;
   }
   const int nx = argc > 3 ? std::atoi(argv[2]) : 1, ny = argc > 3 ? std::atoi(argv[3]) : 1;
@@ -38,6 +43,17 @@ int main(int argc, char** argv) {
   const bool fixed = mode.find("-fixed") != std::string::npos;
   const bool status_pattern = mode.find("-statuspattern") != std::string::npos;
   statics::default_lu_reuse().low_rank = q1 && mode.find("-lowrank") != std::string::npos;
+  const bool krylov = mode.find("-krylov") != std::string::npos;
+  const bool exact = mode.find("-exact") != std::string::npos;
+  if (const char* t = std::getenv("GRANSTAB_KRYLOV_TOLERANCE"))
+    statics::default_lu_reuse().krylov_tolerance = std::atof(t);
+  if (const char* i = std::getenv("GRANSTAB_KRYLOV_MAX_ITERATIONS"))
+    statics::default_lu_reuse().max_krylov_iterations = std::atoi(i);
+  // The update's limits, to measure how many refusals (too_many) larger ones would keep.
+  if (const char* c = std::getenv("GRANSTAB_LOWRANK_MAX_COLUMNS"))
+    statics::default_lu_reuse().max_columns = std::atoi(c);
+  if (const char* r = std::getenv("GRANSTAB_LOWRANK_MAX_RANK"))
+    statics::default_lu_reuse().max_rank = std::atoi(r);
   const Configuration config = bench::tile(read_configuration(argv[1]), nx, ny);
   using Clock = std::chrono::steady_clock;
 
@@ -74,6 +90,7 @@ int main(int argc, char** argv) {
     statics::Q1Options o;
     o.hill = false;
     if (fixed || status_pattern) o.solver.fixed_pattern = fixed;
+    if (krylov || exact) o.solver.krylov_solves = krylov;
     const auto t2 = Clock::now();
     const statics::StabilityResult r = statics::find_q1(config, o);
     int rejected = 0;
@@ -108,6 +125,11 @@ int main(int argc, char** argv) {
         lu.solve_seconds, lu.unrefined_solves);
     std::printf("LuFactor CPU: symbolic analyses %.2f s, numeric factorisations %.2f s\n",
                 lu.symbolic_seconds, lu.numeric_seconds);
+    std::printf(
+        "LuFactor deferred: %ld deferred factorisations (%ld factorised later), %ld GMRES solves "
+        "(%ld over the bound), %ld iterations, %.2f s CPU\n",
+        lu.deferred, lu.deferred_factorised, lu.krylov_solves, lu.krylov_failed,
+        lu.krylov_iterations, lu.krylov_seconds);
     const statics::NegativeEigenvalueStatistics& e = statics::negative_eigenvalue_statistics();
     std::printf(
         "negative_eigenvalues: %ld calls, symmetric inertia %.2f s CPU; %ld Arnoldi (%ld solves, "

@@ -1,0 +1,205 @@
+// LuReuse::krylov (static/linear_solvers): a factorisation is deferred and its solves run GMRES
+// preconditioned with a recent LU of the thread. The solutions must match a fresh LU's to the
+// tolerance, the determinant sign must be the exact one (a deferred K is factorised for it), and
+// a GMRES solve over its bound must fall back to a factorisation. On the shipped samples, the
+// complementarity loop with deferred factorisations (SolverOptions::krylov_solves) must end on
+// the statuses, increment and determinant sign of the loop with an LU per iteration.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <thread>
+
+#include <Eigen/Dense>
+
+#include "common/io/configuration_file.hpp"
+#include "lu_test_matrices.hpp"
+#include "static/backbone.hpp"
+#include "static/linear_solvers.hpp"
+#include "static/load_step.hpp"
+#include "static/tangent.hpp"
+
+namespace granstab::statics {
+namespace {
+
+// Runs f in a new thread: an empty cache of factorisations, deferral switched on there only.
+void in_fresh_thread(const std::function<void()>& f, int max_iterations = 24) {
+  std::thread worker([&f, max_iterations] {
+    default_lu_reuse().krylov = true;
+    default_lu_reuse().max_krylov_iterations = max_iterations;
+    f();
+  });
+  worker.join();
+}
+
+struct Fresh {
+  Eigen::VectorXd x, xt;
+  int sign = 0;
+};
+
+Fresh fresh_lu(const SparseMatrix& k, const Eigen::VectorXd& b) {
+  LuFactor lu(LuReuse{});  // no reuse: a new factorisation
+  EXPECT_TRUE(lu.factorize(k));
+  return {lu.solve(b), lu.solve_transpose(b), lu.determinant_sign()};
+}
+
+SparseMatrix changed(const SparseMatrix& k, int row, const std::vector<int>& cols, double value) {
+  SparseMatrix out = k;
+  for (int c : cols) out.coeffRef(row, c) += value;
+  out.makeCompressed();
+  return out;
+}
+
+// k0 factorised, k deferred: its solves (plain, transposed) by GMRES without a factorisation,
+// within tolerance of a fresh LU's, then its exact determinant sign by one factorisation.
+void expect_deferred_matches_fresh_lu(const SparseMatrix& k0, const SparseMatrix& k,
+                                      double tolerance) {
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(k.rows(), -1.0, 2.0);
+  const Fresh fresh = fresh_lu(k, b);
+  in_fresh_thread([&] {
+    LuFactor base;
+    ASSERT_TRUE(base.factorize(k0));
+    const LuStatistics before = lu_statistics();
+    LuFactor lu;
+    ASSERT_TRUE(lu.factorize(k));
+    EXPECT_FALSE(lu.factorised());
+    EXPECT_EQ(lu_statistics().deferred, before.deferred + 1);
+    const Eigen::VectorXd x = lu.solve(b), xt = lu.solve_transpose(b);
+    EXPECT_EQ(lu_statistics().numeric, before.numeric);  // GMRES converged, nothing factorised
+    EXPECT_EQ(lu_statistics().krylov_solves, before.krylov_solves + 2);
+    EXPECT_LE((x - fresh.x).norm(), tolerance * fresh.x.norm());
+    EXPECT_LE((xt - fresh.xt).norm(), tolerance * fresh.xt.norm());
+    EXPECT_EQ(lu.determinant_sign(), fresh.sign);
+    EXPECT_TRUE(lu.factorised());
+    EXPECT_EQ(lu_statistics().numeric, before.numeric + 1);
+    EXPECT_LE((lu.solve_unrefined(b) - fresh.x).norm(), tolerance * fresh.x.norm());
+  });
+}
+
+using testing::grid_matrix;
+
+// GMRES stops at a normwise backward error of 1e-12 (LuReuse::krylov_tolerance); these matrices
+// are diagonally dominant (condition ~10), so the solutions are within ~1e-11 of the LU's.
+constexpr double solution_tolerance = 1e-10;
+
+TEST(LuKrylov, LowRankChangesMatchAFreshLu) {
+  const SparseMatrix k0 = grid_matrix(15, 3u, 4.0);
+  SparseMatrix k = changed(k0, 7, {7, 40, 100}, 0.8);
+  k = changed(k, 150, {3, 150}, -1.3);
+  expect_deferred_matches_fresh_lu(k0, k, solution_tolerance);
+}
+
+TEST(LuKrylov, DeterminantSignOfTheDeferredMatrixNotOfThePreconditioner) {
+  // A diagonal entry driven through zero flips det K: the sign must be K's, not K0's.
+  const SparseMatrix k0 = grid_matrix(10, 5u, 4.0);
+  const double d = k0.coeff(33, 33);
+  const SparseMatrix k = changed(k0, 33, {33}, -d - 2.0);
+  ASSERT_LT(Eigen::MatrixXd(k).determinant() * Eigen::MatrixXd(k0).determinant(), 0.0);
+  expect_deferred_matches_fresh_lu(k0, k, solution_tolerance);
+}
+
+TEST(LuKrylov, SmallChangesEverywhereMatchAFreshLu) {
+  // Every entry moves by ~1 %, as the geometry does over a load step.
+  const SparseMatrix k0 = grid_matrix(15, 3u, 4.0);
+  SparseMatrix k = k0;
+  const SparseMatrix other = grid_matrix(15, 4u, 4.0);
+  k += 0.01 * other;
+  k.makeCompressed();
+  expect_deferred_matches_fresh_lu(k0, k, solution_tolerance);
+}
+
+TEST(LuKrylov, OverTheBoundItFactorises) {
+  const SparseMatrix k0 = grid_matrix(15, 3u, 4.0);
+  const SparseMatrix k = grid_matrix(15, 4u, 4.0);  // another matrix: GMRES needs many steps
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(k.rows());
+  in_fresh_thread(
+      [&] {
+        LuFactor base;
+        ASSERT_TRUE(base.factorize(k0));
+        const LuStatistics before = lu_statistics();
+        LuFactor lu;
+        ASSERT_TRUE(lu.factorize(k));
+        const Eigen::VectorXd x = lu.solve(b);
+        EXPECT_EQ(lu_statistics().krylov_failed, before.krylov_failed + 1);
+        EXPECT_EQ(lu_statistics().numeric, before.numeric + 1);
+        EXPECT_TRUE(lu.factorised());
+        EXPECT_LT((k * x - b).norm(), 1e-12 * b.norm());
+      },
+      3);
+}
+
+TEST(LuKrylov, SingularDeferredMatrixIsReported) {
+  const SparseMatrix k0 = grid_matrix(8, 2u, 4.0);
+  SparseMatrix k = k0;
+  for (int j = 0; j < k.cols(); ++j) k.coeffRef(5, j) = 0.0;  // a zero row
+  k.makeCompressed();
+  in_fresh_thread(
+      [&] {
+        LuFactor base;
+        ASSERT_TRUE(base.factorize(k0));
+        LuFactor lu;
+        ASSERT_TRUE(lu.factorize(k));  // deferred: not known yet
+        Eigen::VectorXd x;
+        EXPECT_FALSE(lu.try_solve(Eigen::VectorXd::Ones(k.rows()), x));
+        EXPECT_EQ(lu.determinant_sign(), 0);
+      },
+      3);
+}
+
+// The stability check's loop (the predictor with a pure load increment) on a prepared shipped
+// sample, at its start and after a load step, with and without deferred factorisations.
+void expect_same_predictor(const std::string& name) {
+  const Configuration config =
+      read_configuration(std::filesystem::path(GRANSTAB_SAMPLES_DIR) / name);
+  Network net = network_from_configuration(config);
+  net.constraints.cell_free = {true, true};
+  net.constraints.remove_rattlers = true;
+  SolverOptions exact;
+  exact.krylov_solves = false;
+  SolverOptions krylov = exact;
+  krylov.krylov_solves = true;
+  prepare(net, exact);
+  const double sigma1 = net.loading.sigma[0];
+  for (int step = 0; step < 3; ++step) {
+    Network probe = net;
+    probe.loading.sigma[1] *= 1.0 + 1e-6;
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+    const Eigen::VectorXd increment = residual(probe, zero, evaluate_contacts(probe, zero)) -
+                                      residual(net, zero, evaluate_contacts(net, zero));
+    PredictorResult a, b;
+    std::thread([&] { a = predict(probe, exact, nullptr, &increment); }).join();
+    std::thread([&] {
+      // The preconditioner: an LU of the all-stick tangent of this state.
+      const std::vector<ContactState> states = evaluate_contacts(net, zero);
+      std::vector<ContactStatus> stick = classify_contacts(states);
+      for (std::size_t c = 0; c < states.size(); ++c)
+        if (states[c].frictional && stick[c] != ContactStatus::open)
+          stick[c] = ContactStatus::stick;
+      LuReuse reuse;
+      reuse.krylov = true;
+      LuFactor base(reuse);
+      ASSERT_TRUE(base.factorize(reduce(assemble_tangent(net, states, stick),
+                                        make_reduction(kept_dofs(net, states, stick)))));
+      const LuStatistics before = lu_statistics();
+      b = predict(probe, krylov, nullptr, &increment);
+      EXPECT_GT(lu_statistics().deferred, before.deferred) << name;
+    }).join();
+    ASSERT_TRUE(a.ok) << name << ": " << a.failure;
+    ASSERT_TRUE(b.ok) << name << ": " << b.failure;
+    EXPECT_EQ(a.statuses, b.statuses) << name << " step " << step;
+    EXPECT_EQ(a.determinant_sign, b.determinant_sign) << name << " step " << step;
+    // The tolerance of the loop's solves (backward error 1e-12) times the conditioning of K.
+    EXPECT_LE((a.dq - b.dq).norm(), 1e-9 * a.dq.norm()) << name << " step " << step;
+    net.loading.sigma[1] = sigma1 * (1.0 + 1e-3 * (step + 1));
+    ASSERT_TRUE(load_step(net, exact).ok) << name;
+    rebuild_degrees_of_freedom(net);
+  }
+}
+
+TEST(LuKrylov, ShippedSamplesCheckLoopMatchesTheLuLoop) {
+  expect_same_predictor("periodic-n100-k1e4.granstab");
+  expect_same_predictor("series-b-n1400-k1e4-s1.granstab");
+}
+
+}  // namespace
+}  // namespace granstab::statics
