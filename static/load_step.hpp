@@ -44,8 +44,8 @@ struct SolverOptions {
   // latest LU of the thread instead of a new LU each (LuReuse::krylov); the check's determinant
   // sign and negative-eigenvalue count still factorise K exactly. Same path and q1 on the
   // shipped samples; q1 at N = 5600 1028 -> 457 LU factorisations, 142.6 -> 124.1 s CPU
-  // (docs/static.md, Performance). Off: the flip awaits a full ctest run with it on.
-  bool krylov_solves = false;
+  // (docs/static.md, Performance).
+  bool krylov_solves = true;
 };
 
 // The LuFactor reuse of the load step's factorisations: this thread's default plus the options'.
