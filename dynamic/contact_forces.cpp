@@ -3,9 +3,13 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <string_view>
 
-#include "common/contact_law.hpp"
+#include "contact_forces_law.hpp"
+#include "contact_forces_simd.hpp"
 
 namespace granstab::dynamic {
 namespace {
@@ -31,48 +35,6 @@ BlockSums add_blocks(const std::vector<BlockSums>& blocks, int count) {
 void wall_velocity(Wall w, const std::array<double, 2>& rate, double& vx, double& vy) {
   vx = w == wall_right ? rate[0] : 0.0;
   vy = w == wall_top ? rate[1] : 0.0;
-}
-
-// The contact law for one contact, with the tangential force read back from the stored state,
-// F_T = -K_T delta_t (equal to the law's F_T up to one rounding on slip), so that the forces
-// of a synchronous state are a function of that state alone and an exported state resumes to
-// the bit. With dt = 0 (evaluating a given state) delta_t is kept as it is unless it lies
-// outside the Coulomb cone by more than round-off (e.g. after mu was lowered).
-inline ContactForce apply_law(const Material& m, double mu, double alpha, double h, double h_rate,
-                              double delta_t, double dt, double rate) {
-  ContactForce c = contact_force(m.k_n, m.k_t, mu, alpha, h, h_rate, delta_t, dt * rate);
-  if (dt == 0.0 && std::abs(m.k_t * delta_t) <= (1.0 + sliding_tolerance) * mu * c.f_n) {
-    c.delta_t = delta_t;
-  }
-  c.f_t = -m.k_t * c.delta_t;
-  return c;
-}
-
-// The viscous force jumps when a contact closes or opens (SPEC §1.1: applied in full while
-// h > 0). Velocity Verlet's trapezoidal impulse would place each jump at a step boundary + dt/2
-// whatever its true time, an O(dt) error in the restitution coefficient. The time of the jump
-// inside the step is estimated from h(t + dt) and the mid-step rate dh/dt, and the closing half
-// kick gets the force scaled so that the impulse starts (or stops) at that time; the cached
-// force of the synchronous state is not affected (the viscous pass recomputes it).
-// Closing: the contact has been closed for tau = h / h_rate; impulse f tau = (dt/2) f share.
-inline double viscous_share_closing(double h, double h_rate, double dt) {
-  const double tau = h_rate > 0.0 ? std::min(h / h_rate, dt) : 0.5 * dt;
-  return 2.0 * tau / dt;
-}
-// Opening: the contact has been open for tau = h / h_rate (both <= 0); the first half kick
-// already applied f dt/2, so the closing half kick adds f (dt/2 - tau).
-inline double viscous_share_opening(double h, double h_rate, double dt) {
-  const double tau = h_rate < 0.0 ? std::min(h / h_rate, dt) : 0.5 * dt;
-  return 1.0 - 2.0 * tau / dt;
-}
-
-// Minimum image of a separation of two wrapped positions (|dx| < L): a compare instead of a
-// division and a rounding. Contacts are far shorter than L/2 (pair_search checks), so the
-// image agrees with common/cell.hpp's minimum_image_shift used for the exported list.
-inline double minimum_image(double dx, double length, double half_length) {
-  if (dx > half_length) return dx - length;
-  if (dx < -half_length) return dx + length;
-  return dx;
 }
 
 // Adds a pair's force to its disks in the order of the sums (docs/dynamic.md,
@@ -108,21 +70,84 @@ inline void add_pair(DiskArrays& d, PairArrays& pairs, int p, int j, const PairA
   row.torque += f.torque_i;
 }
 
+// Scratch of the SIMD kernel for one block's pairs (per thread; grown as needed).
+struct KernelScratch {
+  std::vector<std::uint8_t> closed;
+  std::vector<double> fx, fy, fvx, fvy, torque_i, torque_j;
+  simd::PairBlock view(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int count) {
+    const std::size_t n = static_cast<std::size_t>(count) + simd::lanes - 1;
+    if (closed.size() < n) {
+      closed.resize(n);
+      for (auto* v : {&fx, &fy, &fvx, &fvy, &torque_i, &torque_j}) v->resize(n);
+    }
+    simd::PairBlock v;
+    v.x = d.x.data();
+    v.y = d.y.data();
+    v.radius = d.radius.data();
+    v.vx = d.vx.data();
+    v.vy = d.vy.data();
+    v.omega = d.omega.data();
+    v.vvx = in.vx_viscous;
+    v.vvy = in.vy_viscous;
+    v.pair_i = pairs.i.data();
+    v.pair_j = pairs.j.data();
+    v.alpha = pairs.alpha.data();
+    v.delta_t = pairs.delta_t.data();
+    v.f_n = pairs.f_n.data();
+    v.nx = pairs.nx.data();
+    v.ny = pairs.ny.data();
+    v.lx = pairs.lx.data();
+    v.ly = pairs.ly.data();
+    v.closed = closed.data();
+    v.fx = fx.data();
+    v.fy = fy.data();
+    v.fvx = fvx.data();
+    v.fvy = fvy.data();
+    v.torque_i = torque_i.data();
+    v.torque_j = torque_j.data();
+    return v;
+  }
+};
+
+PairLawConstants law_constants(const ForceInputs& in) {
+  const Material& m = *in.material;
+  const bool periodic = in.periodic;
+  return {m.k_n,
+          m.k_t,
+          m.mu,
+          in.dt,
+          periodic ? in.rate_tangential[0] : 0.0,
+          periodic ? in.rate_tangential[1] : 0.0,
+          periodic ? in.rate_viscous[0] : 0.0,
+          periodic ? in.rate_viscous[1] : 0.0};
+}
+
+// How a force pass computes the law of the closed pairs. In a time step (ForceInputs::kick) the
+// viscous pass that follows rewrites every closed pair's viscous force (PairArrays::viscous_x,
+// _y; with zeta = 0 there is none, but then every such force is a zero, and a zero of either
+// sign leaves the sums, which start at +0, unchanged), so the force pass stores it only when it
+// evaluates a state (no viscous pass follows; the next step's opening pairs read it).
+enum class Sweep {
+  evaluate,   // scalar law, stores the viscous forces
+  step,       // scalar law
+  step_simd,  // the SIMD kernel's law (same bits), read from its scratch
+};
+
 // The pairs (rows) of the disks [first, end) of block b, added to both disks as they go. Also
 // lists the block's closed pairs (from the start of its pair range) and the pairs that opened
-// during the step (from the end), for the viscous pass. The inputs are copied to locals: the
-// stores into the force arrays could otherwise alias them.
-template <bool Gathering, bool Periodic>
+// during the step (from the end), for the viscous pass. With Sweep::step_simd, the kernel has
+// done the distance test and the law of the block's pairs first and the sweep reads them from
+// its scratch. The inputs are copied to locals: the stores into the force arrays could
+// otherwise alias them.
+template <bool Gathering, bool Periodic, Sweep How>
 void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first, int end,
-                 BlockSums& sums) {
-  const Material mat = *in.material;
+                 BlockSums& block_sums) {
+  // The sums in a local: through the reference, GCC keeps them in memory (3 instructions more
+  // per closed pair when this function is not inlined).
+  BlockSums sums = block_sums;
+  const PairLawConstants k = law_constants(in);
   const double l1 = in.length[0], l2 = in.length[1], half_l1 = 0.5 * l1, half_l2 = 0.5 * l2;
   const double dt = in.dt;
-  // Affine parts of the relative velocity (periodic cells only).
-  const double rate_t1 = Periodic ? in.rate_tangential[0] : 0.0;
-  const double rate_t2 = Periodic ? in.rate_tangential[1] : 0.0;
-  const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
-  const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
   const double* const x = d.x.data();
   const double* const y = d.y.data();
   const double* const radius = d.radius.data();
@@ -135,6 +160,12 @@ void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b,
   const std::int32_t* const pair_j = pairs.j.data();
   const int range_begin = row_start[first], range_end = row_start[end];
   int next_closed = range_begin, next_opened = range_end;
+  [[maybe_unused]] simd::PairBlock kernel{};
+  if constexpr (How == Sweep::step_simd) {
+    thread_local KernelScratch scratch;
+    kernel = scratch.view(d, pairs, in, range_end - range_begin);
+    simd::pair_law(kernel, k, Periodic, l1, l2, range_begin, range_end);
+  }
   for (int i = first; i < end; ++i) {
     const double xi = x[i], yi = y[i], ri = radius[i];
     const double vxi = vx[i], vyi = vy[i], omega_i = omega[i];
@@ -144,15 +175,26 @@ void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b,
     const int row_end = row_start[i + 1];
     for (int p = row_start[i]; p < row_end; ++p) {
       const int j = pair_j[p];
-      double dx = x[j] - xi, dy = y[j] - yi;
-      if constexpr (Periodic) {
-        dx = minimum_image(dx, l1, half_l1);
-        dy = minimum_image(dy, l2, half_l2);
+      const auto separation = [&](double& dx, double& dy) {
+        dx = x[j] - xi;
+        dy = y[j] - yi;
+        if constexpr (Periodic) {
+          dx = minimum_image(dx, l1, half_l1);
+          dy = minimum_image(dy, l2, half_l2);
+        }
+      };
+      double dx, dy, rj;
+      bool closed;
+      if constexpr (How == Sweep::step_simd) {
+        closed = kernel.closed[p - range_begin] != 0;
+      } else {
+        separation(dx, dy);
+        rj = radius[j];
+        const double reach = ri + rj;
+        closed = !(dx * dx + dy * dy >= reach * reach);
       }
-      const double rj = radius[j];
-      const double reach = ri + rj;
       const bool was_closed = pairs.f_n[p] > 0.0;
-      if (dx * dx + dy * dy >= reach * reach) {
+      if (!closed) {
         if (!was_closed) {  // open before and after: adds nothing
           if constexpr (Gathering) {
             if (pairs.slotted[p]) pairs.force[p] = PairArrays::Force{};
@@ -161,11 +203,15 @@ void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b,
         }
         // Opened during the step: the tangential state is dropped (SPEC §1.1), and the closing
         // half kick keeps the share of the viscous force of the part of the step it was closed.
+        if constexpr (How == Sweep::step_simd) {
+          separation(dx, dy);
+          rj = radius[j];
+        }
         double share = 0.0;
         if (dt > 0.0) {
           const ContactFrame f = disk_disk_frame(dx, dy, ri, rj);
-          const double affine_x = Periodic ? rate_t1 * dx : 0.0;
-          const double affine_y = Periodic ? rate_t2 * dy : 0.0;
+          const double affine_x = Periodic ? k.rate_t1 * dx : 0.0;
+          const double affine_y = Periodic ? k.rate_t2 * dy : 0.0;
           const double h_rate = deflection_rate(f, vx[j] - vxi + affine_x, vy[j] - vyi + affine_y);
           share = viscous_share_opening(f.h, h_rate, dt);
         }
@@ -178,41 +224,41 @@ void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b,
         continue;
       }
       pairs.active[next_closed++] = p;
-      const ContactFrame f = disk_disk_frame(dx, dy, ri, rj);
-      const double affine_tx = Periodic ? rate_t1 * dx : 0.0;
-      const double affine_ty = Periodic ? rate_t2 * dy : 0.0;
-      const double dvx = vx[j] - vxi + affine_tx, dvy = vy[j] - vyi + affine_ty;
-      const double rate = tangential_rate(f, dvx, dvy, omega_i, omega[j]);
-      const double affine_vx = Periodic ? rate_v1 * dx : 0.0;
-      const double affine_vy = Periodic ? rate_v2 * dy : 0.0;
-      const double h_rate =
-          deflection_rate(f, vvx[j] - vvxi + affine_vx, vvy[j] - vvyi + affine_vy);
-      const ContactForce c =
-          apply_law(mat, mat.mu, pairs.alpha[p], f.h, h_rate, pairs.delta_t[p], dt, rate);
-      pairs.delta_t[p] = c.delta_t;
-      pairs.f_n[p] = c.f_n;
-      pairs.nx[p] = f.nx;
-      pairs.ny[p] = f.ny;
-      pairs.lx[p] = dx;
-      pairs.ly[p] = dy;
-      const double fx = c.f_n * f.nx + c.f_t * f.tx;
-      const double fy = c.f_n * f.ny + c.f_t * f.ty;
-      // A contact that closed during the step gets, for the closing half kick only, the share
-      // of its viscous force of the part of the step it was closed.
-      const double share = was_closed || dt == 0.0
-                               ? 1.0
-                               : viscous_share_closing(f.h, deflection_rate(f, dvx, dvy), dt);
-      const double fvx = share * c.f_v * f.nx, fvy = share * c.f_v * f.ny;
-      // The viscous force of the state until the viscous pass refreshes it.
-      pairs.viscous_x[p] = fvx;
-      pairs.viscous_y[p] = fvy;
-      add_pair<Gathering>(d, pairs, p, j, {fx, fy, fvx, fvy, -f.a_i * c.f_t, -f.a_j * c.f_t}, row);
-      sums.sigma[0] += fx * dx;
-      sums.sigma[1] += fx * dy;
-      sums.sigma[2] += fy * dx;
-      sums.sigma[3] += fy * dy;
-      sums.sigma_viscous[0] += fvx * dx;
-      sums.sigma_viscous[1] += fvy * dy;
+      if constexpr (How == Sweep::step_simd) {
+        dx = pairs.lx[p];
+        dy = pairs.ly[p];
+      }
+      const PairArrays::Force f = [&]() -> PairArrays::Force {
+        if constexpr (How == Sweep::step_simd) {
+          const int s = p - range_begin;
+          return {kernel.fx[s],  kernel.fy[s],       kernel.fvx[s],
+                  kernel.fvy[s], kernel.torque_i[s], kernel.torque_j[s]};
+        } else {
+          const auto keep_state = [&](double delta_t, double f_n, double nx, double ny) {
+            pairs.delta_t[p] = delta_t;
+            pairs.f_n[p] = f_n;
+            pairs.nx[p] = nx;
+            pairs.ny[p] = ny;
+            pairs.lx[p] = dx;
+            pairs.ly[p] = dy;
+          };
+          const ClosedPair<double> c = closed_pair_law<Periodic>(
+              k, dx, dy, ri, rj, vxi, vyi, omega_i, vx[j], vy[j], omega[j], vvxi, vvyi, vvx[j],
+              vvy[j], pairs.alpha[p], pairs.delta_t[p], was_closed, keep_state);
+          if constexpr (How == Sweep::evaluate) {
+            pairs.viscous_x[p] = c.fvx;
+            pairs.viscous_y[p] = c.fvy;
+          }
+          return {c.fx, c.fy, c.fvx, c.fvy, c.torque_i, c.torque_j};
+        }
+      }();
+      add_pair<Gathering>(d, pairs, p, j, f, row);
+      sums.sigma[0] += f.fx * dx;
+      sums.sigma[1] += f.fx * dy;
+      sums.sigma[2] += f.fy * dx;
+      sums.sigma[3] += f.fy * dy;
+      sums.sigma_viscous[0] += f.fvx * dx;
+      sums.sigma_viscous[1] += f.fvy * dy;
     }
     d.fx[i] = row.fx;
     d.fy[i] = row.fy;
@@ -222,6 +268,15 @@ void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b,
   }
   pairs.block_closed[b] = next_closed - range_begin;
   pairs.block_opened[b] = range_end - next_opened;
+  block_sums = sums;
+}
+
+// The sweep of a state's evaluation (rare) out of line, so that GCC inlines the sweeps of the
+// time step into the pass (fewer instructions per block).
+template <bool Gathering, bool Periodic>
+[[gnu::noinline]] void pair_forces_evaluate(DiskArrays& d, PairArrays& pairs, const ForceInputs& in,
+                                            int b, int first, int end, BlockSums& sums) {
+  pair_forces<Gathering, Periodic, Sweep::evaluate>(d, pairs, in, b, first, end, sums);
 }
 
 // Viscous force only, at the velocities of in, over the closed pairs listed by pair_forces
@@ -315,8 +370,8 @@ void wall_forces(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, 
         d.wall_f_v[w][i] = f_v;
       } else {
         const double rate = tangential_rate(f, dvx, dvy, d.omega[i], 0.0);
-        const ContactForce c = apply_law(mat, mat.mu_wall, d.alpha_wall[i], f.h, h_rate,
-                                         d.wall_delta_t[w][i], in.dt, rate);
+        const ContactForce c = apply_law(mat.k_n, mat.k_t, mat.mu_wall, d.alpha_wall[i], f.h,
+                                         h_rate, d.wall_delta_t[w][i], in.dt, rate);
         d.wall_delta_t[w][i] = c.delta_t;
         d.wall_f_v[w][i] = c.f_v;
         const double share = was_closed || in.dt == 0.0
@@ -506,6 +561,30 @@ Cell cell_of(const ForceInputs& in) {
 
 }  // namespace
 
+namespace {
+bool cpu_has_kernel() {
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
+#else
+  return false;
+#endif
+}
+bool scalar_pairs_asked() {
+  const char* v = std::getenv("GRANSTAB_SCALAR_PAIRS");
+  return v != nullptr && *v != '\0' && std::string_view(v) != "0";
+}
+std::atomic<bool> simd_pairs_enabled{cpu_has_kernel() && !scalar_pairs_asked()};
+}  // namespace
+
+bool simd_pairs() { return simd_pairs_enabled.load(std::memory_order_relaxed); }
+
+bool set_simd_pairs(bool enabled) {
+  simd_pairs_enabled.store(enabled && cpu_has_kernel(), std::memory_order_relaxed);
+  return simd_pairs();
+}
+
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks) {
   const int team = in.parallel ? omp_get_max_threads() : 1;
@@ -518,9 +597,21 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
       std::fill(v->begin() + first, v->begin() + end, 0.0);
     }
   };
+  // The kernel in time steps only (Sweep).
+  const Sweep how = !in.kick ? Sweep::evaluate : simd_pairs() ? Sweep::step_simd : Sweep::step;
   const auto rows = [&](int b, int first, int end, BlockSums& sums) {
     with_flags(pairs.block_slotted[b], in.periodic, [&]<bool Gathering, bool Periodic>() {
-      pair_forces<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
+      switch (how) {
+        case Sweep::evaluate:
+          pair_forces_evaluate<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
+          break;
+        case Sweep::step:
+          pair_forces<Gathering, Periodic, Sweep::step>(disks, pairs, in, b, first, end, sums);
+          break;
+        case Sweep::step_simd:
+          pair_forces<Gathering, Periodic, Sweep::step_simd>(disks, pairs, in, b, first, end, sums);
+          break;
+      }
     });
   };
   const auto finish = [&](int i, bool gathered, BlockSums& sums) {
