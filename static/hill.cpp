@@ -1,8 +1,10 @@
 #include "static/hill.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <ctime>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
@@ -103,7 +105,31 @@ NegativeEigenvalueStatistics& negative_eigenvalue_statistics() {
 }
 
 int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
-  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt(s);
+  // The ordering and the elimination tree of the last pattern, kept: a q1 run counts the inertia
+  // of many matrices with the pattern of one contact list (the fixed pattern of the tangent). The
+  // analysis reads the pattern only, so the factor is the same as a fresh one's.
+  struct Cache {
+    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;
+    std::vector<int> col, row;
+  };
+  thread_local Cache cache;
+  SparseMatrix sc = s;
+  sc.makeCompressed();
+  const int n = static_cast<int>(sc.rows());
+  const bool same = static_cast<int>(cache.col.size()) == n + 1 &&
+                    static_cast<Eigen::Index>(cache.row.size()) == sc.nonZeros() &&
+                    std::equal(cache.col.begin(), cache.col.end(), sc.outerIndexPtr()) &&
+                    std::equal(cache.row.begin(), cache.row.end(), sc.innerIndexPtr());
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>& ldlt = cache.ldlt;
+  if (!same) {
+    cache.col.clear();
+    cache.row.clear();
+    ldlt.analyzePattern(sc);
+    if (ldlt.info() != Eigen::Success) return -1;
+    cache.col.assign(sc.outerIndexPtr(), sc.outerIndexPtr() + n + 1);
+    cache.row.assign(sc.innerIndexPtr(), sc.innerIndexPtr() + sc.nonZeros());
+  }
+  ldlt.factorize(sc);
   if (ldlt.info() != Eigen::Success) return -1;
   const Eigen::VectorXd d = ldlt.vectorD();
   int count = 0;

@@ -68,6 +68,19 @@ LuReuse& default_lu_reuse();
 // what the thread factorised before (the same bits run after run).
 void forget_factorisations();
 
+// The part of a q1 run that this thread's LuFactor work belongs to (bench/static splits the
+// counters by it; set by the load step and the stability check).
+enum class SolvePhase {
+  other,
+  step_loop,
+  chord,
+  corrector,
+  check_first,
+  check_later,
+  check_sign,
+  count
+};
+
 // Counters of this thread's LuFactor work (bench/static).
 struct LuStatistics {
   long numeric = 0;           // full numeric factorisations
@@ -86,6 +99,15 @@ struct LuStatistics {
   double solve_seconds = 0.0;     // thread CPU seconds of the refined UMFPACK solves
   double symbolic_seconds = 0.0;  // thread CPU seconds of the symbolic analyses
   double numeric_seconds = 0.0;   // thread CPU seconds of the numeric factorisations
+  // The same split by SolvePhase: numeric factorisations, GMRES solves (converged), over the
+  // bound, iterations, CPU seconds.
+  SolvePhase phase = SolvePhase::other;
+  static constexpr int phases = static_cast<int>(SolvePhase::count);
+  long phase_numeric[phases] = {};
+  long phase_krylov_solves[phases] = {};
+  long phase_krylov_failed[phases] = {};
+  long phase_krylov_iterations[phases] = {};
+  double phase_krylov_seconds[phases] = {};
 };
 LuStatistics& lu_statistics();
 

@@ -321,6 +321,7 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings,
                         const Eigen::VectorXd* rhs, const PredictorResult* warm, bool determinant) {
   const auto loop_start = Clock::now();
+  const SolvePhase phase_before = lu_statistics().phase;
   PredictorResult p;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
@@ -393,6 +394,9 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       seen.emplace(key, static_cast<int>(history.size()));
       history.push_back(key);
     }
+    lu_statistics().phase = !determinant ? SolvePhase::step_loop
+                            : it == 0    ? SolvePhase::check_first
+                                         : SolvePhase::check_later;
     if (it == 0 && warm && warm->factor && warm->statuses == p.statuses &&
         warm->tangent.rows() == net.dofs.size) {
       // Same state and statuses as the stability check that accepted it: reuse its factor
@@ -460,6 +464,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
         // A deferred factorisation is made here (the check's sign, its eigenvalue count and the
         // next step's warm start use it); singular is then found only now.
         const auto t0 = Clock::now();
+        if (determinant) lu_statistics().phase = SolvePhase::check_sign;
         p.determinant_sign = factor->determinant_sign();
         if (timings) timings->factorisation += seconds_since(t0);
         if (p.determinant_sign == 0) {
@@ -474,6 +479,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
     }
   }
   if (timings) timings->complementarity += seconds_since(loop_start);
+  lu_statistics().phase = phase_before;
   return p;
 }
 
@@ -539,7 +545,10 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
   Network trial = net;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(trial.dofs.size);
   const ResidualScale scale = residual_scale(trial, evaluate_contacts(trial, zero));
+  const SolvePhase phase_before = lu_statistics().phase;
+  lu_statistics().phase = SolvePhase::chord;
   Eigen::VectorXd dq = chord_iterations(trial, step.predictor, step.predictor.dq, scale, options);
+  lu_statistics().phase = SolvePhase::corrector;
   for (int round = 0;; ++round) {
     step.corrector = newton_equilibrium(trial, dq, nullptr, scale, options, timings);
     if (!step.corrector.converged) {
@@ -582,6 +591,7 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
     activate_disks(trial, rattlers, dq);
   }
   if (timings) timings->corrector += seconds_since(t0);
+  lu_statistics().phase = phase_before;
   if (!step.ok) return step;
   advance(trial, step.corrector.dq, step.corrector.states);
   net = std::move(trial);

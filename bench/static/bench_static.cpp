@@ -130,6 +130,15 @@ int main(int argc, char** argv) {
         "(%ld over the bound), %ld iterations, %.2f s CPU\n",
         lu.deferred, lu.deferred_factorised, lu.krylov_solves, lu.krylov_failed,
         lu.krylov_iterations, lu.krylov_seconds);
+    const char* phase_names[] = {"other",       "step loop",   "chord",     "corrector",
+                                 "check first", "check later", "check sign"};
+    static_assert(sizeof(phase_names) / sizeof(phase_names[0]) == statics::LuStatistics::phases);
+    for (int ph = 0; ph < statics::LuStatistics::phases; ++ph)
+      std::printf(
+          "  %-11s: %4ld numeric, %4ld GMRES solves (%4ld over the bound), %6ld iterations, "
+          "%.2f s CPU\n",
+          phase_names[ph], lu.phase_numeric[ph], lu.phase_krylov_solves[ph],
+          lu.phase_krylov_failed[ph], lu.phase_krylov_iterations[ph], lu.phase_krylov_seconds[ph]);
     const statics::NegativeEigenvalueStatistics& e = statics::negative_eigenvalue_statistics();
     std::printf(
         "negative_eigenvalues: %ld calls, symmetric inertia %.2f s CPU; %ld Arnoldi (%ld solves, "

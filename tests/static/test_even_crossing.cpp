@@ -68,6 +68,27 @@ TEST(NegativeEigenvalues, CountsRealNegativeEigenvaluesNotTheDeterminantSign) {
   expect_counts(blocks({{1.0, 5.0, 0.0}}, {{3.0, 1.0}}, tail), 0, 0);
 }
 
+// The LDL^T keeps its analysis for a repeated pattern: the count must follow the values of each
+// matrix (a stale numeric factor would repeat the first count), and another pattern of the same
+// size and number of entries must be analysed afresh.
+TEST(NegativeEigenvalues, SymmetricCountFollowsTheValuesOfARepeatedPattern) {
+  const std::vector<double> tail = {1.0, 2.0, 3.0, 4.0};
+  // [[a, c], [c, a]] has eigenvalues a +- c.
+  EXPECT_EQ(negative_eigenvalue_count_symmetric(blocks({}, {{1.0, 0.5}, {1.0, 0.5}}, tail)), 0);
+  EXPECT_EQ(negative_eigenvalue_count_symmetric(blocks({}, {{1.0, 2.0}, {1.0, 0.5}}, tail)), 1);
+  EXPECT_EQ(negative_eigenvalue_count_symmetric(blocks({}, {{-1.0, 2.0}, {-3.0, 0.5}}, tail)), 3);
+  EXPECT_EQ(negative_eigenvalue_count_symmetric(blocks({}, {{1.0, 0.5}, {1.0, 0.5}}, tail)), 0);
+  // The same size and number of entries, the off-diagonal pair elsewhere: rows 0 and 5 coupled.
+  SparseMatrix other = blocks({}, {}, {1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0});
+  other.coeffRef(0, 5) = 3.0;
+  other.coeffRef(5, 0) = 3.0;
+  other.coeffRef(2, 3) = 0.5;
+  other.coeffRef(3, 2) = 0.5;
+  other.makeCompressed();
+  EXPECT_EQ(negative_eigenvalue_count_symmetric(other), 1);
+  EXPECT_EQ(negative_eigenvalue_count_symmetric(blocks({}, {{1.0, 0.5}, {1.0, 2.0}}, tail)), 1);
+}
+
 // Three disks of radius 1/2 per period along x (spacing d = 1 - F/K_N), rotations and e2 fixed,
 // the translation pinned on disk 0: the transverse displacements of disks 1 and 2 have the
 // stiffness matrix k [[2, -1], [-1, 2]] with k = K_T - F/d, eigenvalues k and 3k. Both cross zero
