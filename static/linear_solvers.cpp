@@ -667,7 +667,7 @@ Eigen::VectorXd LuFactor::solve_system(const Eigen::VectorXd& b, bool transposed
   }
   if (m.update) return refined(*m.update, m.k, b, transposed);
   if (!m.full) throw std::logic_error("LuFactor::solve without a successful factorisation");
-  return m.full->solve(transposed ? UMFPACK_At : UMFPACK_A, b);
+  return m.full->solve(transposed ? UMFPACK_At : UMFPACK_A, b, m.reuse.refine);
 }
 
 Eigen::VectorXd LuFactor::solve_unrefined(const Eigen::VectorXd& b) const {

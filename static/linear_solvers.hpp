@@ -36,7 +36,7 @@ class SymmetricFactor {
 };
 
 // How LuFactor may avoid a numeric factorisation (off by default: the results then differ from a
-// fresh LU in round-off, which moves q1 today, docs/static.md "Performance").
+// fresh LU in round-off; docs/static.md "Performance"), and whether its solves are refined.
 struct LuReuse {
   // A matrix that differs from a recent full factorisation K0 of this thread in a few columns
   // (status changes of a few contacts inside a complementarity loop) is written K = K0 + U V^T
@@ -59,6 +59,10 @@ struct LuReuse {
   // N = 5600 did not get there in 24 iterations (the residual's round-off floor); the path and
   // q1 are the same at 1e-12 and 1e-14 (bench/README.md, "Session 6").
   double krylov_tolerance = 1e-12;
+  // UMFPACK's iterative refinement in solve and solve_transpose (up to 2 steps against K, 5-8
+  // unrefined solves' worth). Off, a solve is the exact inverse of the computed factors (backward
+  // stable). The load step turns it off (SolverOptions::refine_solves).
+  bool refine = true;
 };
 // The reuse of a default-constructed LuFactor in this thread.
 LuReuse& default_lu_reuse();
@@ -127,8 +131,9 @@ class LuFactor {
   // Whether the last factorize reused a cached symbolic analysis (or made none: low-rank update,
   // deferred factorisation).
   bool symbolic_reused() const { return symbolic_reused_; }
-  // K^-1 b. With a deferred factorisation (LuReuse::krylov) K may turn out singular only here:
-  // try_solve then returns false, solve a vector of NaN.
+  // K^-1 b, refined by UMFPACK unless LuReuse::refine is off. With a deferred factorisation
+  // (LuReuse::krylov) K may turn out singular only here: try_solve then returns false, solve a
+  // vector of NaN.
   bool try_solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::VectorXd solve_transpose(const Eigen::VectorXd& b) const;

@@ -64,6 +64,7 @@ bool solve_kept(const SparseMatrix& k, const std::vector<char>& kept, const Eige
 LuReuse lu_reuse(const SolverOptions& options) {
   LuReuse reuse = default_lu_reuse();
   reuse.krylov = reuse.krylov || options.krylov_solves;
+  reuse.refine = reuse.refine && options.refine_solves;
   return reuse;
 }
 

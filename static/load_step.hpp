@@ -46,6 +46,11 @@ struct SolverOptions {
   // shipped samples; q1 at N = 5600 1028 -> 457 LU factorisations, 142.6 -> 124.1 s CPU
   // (docs/static.md, Performance).
   bool krylov_solves = true;
+  // UMFPACK's iterative refinement in the solves of the load step and of the check that are made
+  // with an LU of the matrix itself (LuReuse::refine; GMRES and the eigenvalue count never refine).
+  // Off: the same path and q1 on the shipped samples, and the refined solves' 6-7 s of CPU in q1
+  // at N = 5600 gone (bench/README.md, "Static solver", session 7).
+  bool refine_solves = false;
 };
 
 // The LuFactor reuse of the load step's factorisations: this thread's default plus the options'.

@@ -146,6 +146,32 @@ TEST(LuKrylov, SingularDeferredMatrixIsReported) {
       3);
 }
 
+// LuReuse::refine off: a solve is the unrefined one (the inverse of the computed factors), counted
+// as such; the load step's reuse has it off unless SolverOptions::refine_solves.
+TEST(LuRefine, OffSolvesAreTheUnrefinedOnes) {
+  const SparseMatrix k = grid_matrix(12, 3u, 4.0);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(k.rows(), -1.0, 2.0);
+  LuReuse reuse;
+  reuse.refine = false;
+  LuFactor lu(reuse);
+  ASSERT_TRUE(lu.factorize(k));
+  const LuStatistics before = lu_statistics();
+  const Eigen::VectorXd x = lu.solve(b);
+  EXPECT_EQ(lu_statistics().solves, before.solves);
+  EXPECT_EQ(lu_statistics().unrefined_solves, before.unrefined_solves + 1);
+  EXPECT_EQ(x, lu.solve_unrefined(b));
+  EXPECT_LT((k * x - b).norm(), 1e-12 * b.norm());
+  LuFactor refined;  // the default refines
+  ASSERT_TRUE(refined.factorize(k));
+  const LuStatistics before_refined = lu_statistics();
+  refined.solve(b);
+  EXPECT_EQ(lu_statistics().solves, before_refined.solves + 1);
+  EXPECT_FALSE(lu_reuse(SolverOptions{}).refine);
+  SolverOptions refining;
+  refining.refine_solves = true;
+  EXPECT_TRUE(lu_reuse(refining).refine);
+}
+
 // The stability check's loop (the predictor with a pure load increment) on a prepared shipped
 // sample, at its start and after a load step, with and without deferred factorisations.
 void expect_same_predictor(const std::string& name) {
