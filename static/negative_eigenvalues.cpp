@@ -1,0 +1,167 @@
+// The negative-eigenvalue count of STATIC.md §S3.4 (b), declared in hill.hpp (apart from the Hill
+// indicator in hill.cpp so that the two Spectra solvers compile in separate translation units).
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <ctime>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+// GCC 12 reports a false use-after-free inside Spectra's UpperHessenbergEigen (Eigen temporaries).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuse-after-free"
+#endif
+#include <Spectra/GenEigsRealShiftSolver.h>
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+#pragma GCC diagnostic pop
+#endif
+
+#include "static/hill.hpp"
+#include "static/linear_solvers.hpp"
+
+namespace granstab::statics {
+namespace {
+
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Spectra's real-shift operator for K with the shift 0 only: y = K^-1 x with the LU of K.
+class InverseOperator {
+ public:
+  using Scalar = double;
+  InverseOperator(const LuFactor& lu, Eigen::Index n) : lu_(lu), n_(n) {}
+  Eigen::Index rows() const { return n_; }
+  Eigen::Index cols() const { return n_; }
+  void set_shift(const Scalar&) {}
+  void perform_op(const Scalar* x_in, Scalar* y_out) const {
+    ++negative_eigenvalue_statistics().arnoldi_solves;
+    // Unrefined: Arnoldi converges on the inverse of the computed factors as well (a backward-
+    // stable perturbation of K) in as many solves and with the same counts on the shipped samples;
+    // UMFPACK's refinement made each solve 5-8 times as expensive (12.6 -> 1.5 s of CPU in q1 at
+    // N = 1400, bench/README.md "Static solver").
+    Eigen::Map<Eigen::VectorXd>(y_out, n_) =
+        lu_.solve_unrefined(Eigen::Map<const Eigen::VectorXd>(x_in, n_));
+  }
+
+ private:
+  const LuFactor& lu_;
+  Eigen::Index n_;
+};
+
+bool real_negative(const std::complex<double>& z) {
+  return z.real() < 0.0 && std::abs(z.imag()) <= 1e-10 * std::abs(z);
+}
+
+bool dense_real_negative(const SparseMatrix& k, NegativeEigenvalues& out) {
+  Eigen::EigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(k), true);
+  if (eig.info() != Eigen::Success) return false;
+  out.real = 0;
+  for (Eigen::Index i = 0; i < eig.eigenvalues().size(); ++i)
+    if (real_negative(eig.eigenvalues()[i])) {
+      ++out.real;
+      out.modes.push_back(eig.eigenvectors().col(i).real().normalized());
+    }
+  return true;
+}
+
+// Dense solves stay cheap up to this size (a few tenths of a second).
+constexpr int dense_limit = 1500;
+
+}  // namespace
+
+NegativeEigenvalueStatistics& negative_eigenvalue_statistics() {
+  thread_local NegativeEigenvalueStatistics statistics;
+  return statistics;
+}
+
+int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
+  // The ordering and the elimination tree of the last pattern, kept: a q1 run counts the inertia
+  // of many matrices with the pattern of one contact list (the fixed pattern of the tangent). The
+  // analysis reads the pattern only, so the factor is the same as a fresh one's.
+  struct Cache {
+    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;
+    std::vector<int> col, row;
+  };
+  thread_local Cache cache;
+  SparseMatrix sc = s;
+  sc.makeCompressed();
+  const int n = static_cast<int>(sc.rows());
+  const bool same = static_cast<int>(cache.col.size()) == n + 1 &&
+                    static_cast<Eigen::Index>(cache.row.size()) == sc.nonZeros() &&
+                    std::equal(cache.col.begin(), cache.col.end(), sc.outerIndexPtr()) &&
+                    std::equal(cache.row.begin(), cache.row.end(), sc.innerIndexPtr());
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>& ldlt = cache.ldlt;
+  if (!same) {
+    cache.col.clear();
+    cache.row.clear();
+    ldlt.analyzePattern(sc);
+    if (ldlt.info() != Eigen::Success) return -1;
+    cache.col.assign(sc.outerIndexPtr(), sc.outerIndexPtr() + n + 1);
+    cache.row.assign(sc.innerIndexPtr(), sc.innerIndexPtr() + sc.nonZeros());
+  }
+  ldlt.factorize(sc);
+  if (ldlt.info() != Eigen::Success) return -1;
+  const Eigen::VectorXd d = ldlt.vectorD();
+  int count = 0;
+  for (Eigen::Index i = 0; i < d.size(); ++i) {
+    if (d[i] == 0.0 || !std::isfinite(d[i])) return -1;
+    count += d[i] < 0.0;
+  }
+  return count;
+}
+
+NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu) {
+  NegativeEigenvalues out;
+  NegativeEigenvalueStatistics& statistics = negative_eigenvalue_statistics();
+  ++statistics.calls;
+  const int n = static_cast<int>(k.rows());
+  if (n == 0) {
+    out.ok = true;
+    out.symmetric = out.real = 0;
+    return out;
+  }
+  const double t0 = thread_seconds();
+  // Not gated by a CHOLMOD LL^T: the symmetric part is indefinite in 70 % of the calls of a q1 run
+  // (the LDL^T then runs anyway), and the gate doubled this part's cost at N = 1400.
+  out.symmetric = negative_eigenvalue_count_symmetric(0.5 * (k + SparseMatrix(k.transpose())));
+  const double t1 = thread_seconds();
+  statistics.symmetric_seconds += t1 - t0;
+  if (out.symmetric == 0) {
+    out.ok = true;
+    out.real = 0;
+    return out;
+  }
+  if (lu && n > 8) {
+    ++statistics.arnoldi;
+    InverseOperator op(*lu, n);
+    const int nev = std::min(6, n - 3);
+    Spectra::GenEigsRealShiftSolver<InverseOperator> eigs(op, nev, std::min(n, 2 * nev + 8), 0.0);
+    eigs.init();
+    eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+    statistics.arnoldi_seconds += thread_seconds() - t1;
+    if (eigs.info() == Spectra::CompInfo::Successful) {
+      out.ok = true;
+      out.real = 0;
+      const Eigen::VectorXcd values = eigs.eigenvalues();
+      const Eigen::MatrixXcd vectors = eigs.eigenvectors();
+      for (Eigen::Index i = 0; i < values.size(); ++i)
+        if (real_negative(values[i])) {
+          ++out.real;
+          out.modes.push_back(vectors.col(i).real().normalized());
+        }
+      return out;
+    }
+  }
+  if (n <= dense_limit) {
+    ++statistics.dense;
+    out.ok = dense_real_negative(k, out);
+  }
+  return out;
+}
+
+}  // namespace granstab::statics
