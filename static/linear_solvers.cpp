@@ -19,7 +19,7 @@ namespace granstab::statics {
 
 struct SymmetricFactor::Impl {
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
-  std::vector<int> col, row;  // the pattern analysed last (empty: none)
+  SparsityPattern analysed;  // the pattern analysed last
 };
 
 SymmetricFactor::SymmetricFactor() : impl_(std::make_unique<Impl>()) {
@@ -31,15 +31,9 @@ bool SymmetricFactor::factorize(const SparseMatrix& k) {
   Impl& m = *impl_;
   SparseMatrix kc = k;
   kc.makeCompressed();
-  const int n = static_cast<int>(kc.rows());
-  const bool same = static_cast<int>(m.col.size()) == n + 1 &&
-                    static_cast<Eigen::Index>(m.row.size()) == kc.nonZeros() &&
-                    std::equal(m.col.begin(), m.col.end(), kc.outerIndexPtr()) &&
-                    std::equal(m.row.begin(), m.row.end(), kc.innerIndexPtr());
-  if (!same) {
+  if (!m.analysed.same_as(kc)) {
     m.llt.analyzePattern(kc);
-    m.col.assign(kc.outerIndexPtr(), kc.outerIndexPtr() + n + 1);
-    m.row.assign(kc.innerIndexPtr(), kc.innerIndexPtr() + kc.nonZeros());
+    m.analysed.assign(kc);
   }
   m.llt.factorize(kc);
   // NumericalIssue is CHOLMOD_NOT_POSDEF: the factor is unusable (DEPS.md #2).
@@ -82,13 +76,8 @@ class SymbolicCache {
   // The analysis of k's pattern, computed on a miss; nullptr if UMFPACK fails.
   void* get(const SparseMatrix& k, const double* control, bool& reused) {
     const int n = static_cast<int>(k.rows());
-    const Eigen::Index nnz = k.nonZeros();
     for (std::size_t e = 0; e < entries_.size(); ++e) {
-      Entry& x = entries_[e];
-      if (x.n != n || static_cast<Eigen::Index>(x.row.size()) != nnz) continue;
-      if (!std::equal(x.col.begin(), x.col.end(), k.outerIndexPtr()) ||
-          !std::equal(x.row.begin(), x.row.end(), k.innerIndexPtr()))
-        continue;
+      if (!entries_[e].pattern.same_as(k)) continue;
       std::rotate(entries_.begin(), entries_.begin() + e,
                   entries_.begin() + e + 1);  // most recent first
       reused = true;
@@ -109,9 +98,7 @@ class SymbolicCache {
       entries_.pop_back();
     }
     Entry x;
-    x.n = n;
-    x.col.assign(k.outerIndexPtr(), k.outerIndexPtr() + n + 1);
-    x.row.assign(k.innerIndexPtr(), k.innerIndexPtr() + nnz);
+    x.pattern.assign(k);
     x.symbolic = symbolic;
     entries_.insert(entries_.begin(), std::move(x));
     return symbolic;
@@ -120,8 +107,7 @@ class SymbolicCache {
  private:
   static constexpr std::size_t capacity = 4;
   struct Entry {
-    int n = 0;
-    std::vector<int> col, row;
+    SparsityPattern pattern;
     void* symbolic = nullptr;
   };
   std::vector<Entry> entries_;

@@ -5,6 +5,7 @@
 //   is the test of positive definiteness; DEPS.md #1-#3);
 // - UMFPACK LU for the full unsymmetric operator with sliding contacts, with the sign of its
 //   determinant (STATIC.md §S3.1 first route, §S3.4 (b)).
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -13,6 +14,27 @@
 #include "static/tangent.hpp"
 
 namespace granstab::statics {
+
+// The sparsity pattern of a compressed matrix, kept to recognise it again: an ordering or
+// symbolic analysis depends on the pattern only, and a q1 run factorises many matrices of one
+// contact list's pattern.
+struct SparsityPattern {
+  std::vector<int> col, row;  // outer starts, inner indices (empty: none kept)
+  bool same_as(const SparseMatrix& compressed) const {
+    return static_cast<Eigen::Index>(col.size()) == compressed.outerSize() + 1 &&
+           static_cast<Eigen::Index>(row.size()) == compressed.nonZeros() &&
+           std::equal(col.begin(), col.end(), compressed.outerIndexPtr()) &&
+           std::equal(row.begin(), row.end(), compressed.innerIndexPtr());
+  }
+  void assign(const SparseMatrix& compressed) {
+    col.assign(compressed.outerIndexPtr(), compressed.outerIndexPtr() + compressed.outerSize() + 1);
+    row.assign(compressed.innerIndexPtr(), compressed.innerIndexPtr() + compressed.nonZeros());
+  }
+  void clear() {
+    col.clear();
+    row.clear();
+  }
+};
 
 class SymmetricFactor {
  public:

@@ -85,24 +85,17 @@ int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
   // analysis reads the pattern only, so the factor is the same as a fresh one's.
   struct Cache {
     Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;
-    std::vector<int> col, row;
+    SparsityPattern analysed;
   };
   thread_local Cache cache;
   SparseMatrix sc = s;
   sc.makeCompressed();
-  const int n = static_cast<int>(sc.rows());
-  const bool same = static_cast<int>(cache.col.size()) == n + 1 &&
-                    static_cast<Eigen::Index>(cache.row.size()) == sc.nonZeros() &&
-                    std::equal(cache.col.begin(), cache.col.end(), sc.outerIndexPtr()) &&
-                    std::equal(cache.row.begin(), cache.row.end(), sc.innerIndexPtr());
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>& ldlt = cache.ldlt;
-  if (!same) {
-    cache.col.clear();
-    cache.row.clear();
+  if (!cache.analysed.same_as(sc)) {
+    cache.analysed.clear();
     ldlt.analyzePattern(sc);
     if (ldlt.info() != Eigen::Success) return -1;
-    cache.col.assign(sc.outerIndexPtr(), sc.outerIndexPtr() + n + 1);
-    cache.row.assign(sc.innerIndexPtr(), sc.innerIndexPtr() + sc.nonZeros());
+    cache.analysed.assign(sc);
   }
   ldlt.factorize(sc);
   if (ldlt.info() != Eigen::Success) return -1;
