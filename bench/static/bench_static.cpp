@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
   if (q1) {
     statics::Q1Options o;
     o.hill = false;
+    // The user's step (`granstab q1 --dq`); 1e-3 otherwise, as in every figure of bench/README.md.
+    if (const char* dq = std::getenv("GRANSTAB_Q1_DQ")) o.dq = std::atof(dq);
     if (fixed || status_pattern) o.solver.fixed_pattern = fixed;
     if (krylov || exact) o.solver.krylov_solves = krylov;
     const auto t2 = Clock::now();
