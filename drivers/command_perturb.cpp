@@ -45,7 +45,7 @@ struct PerturbSettings {
   protocols::GuardSettings guard;
 };
 
-PerturbSettings read_settings(const protocols::Invocation& invocation) {
+PerturbSettings read_perturb_settings(const protocols::Invocation& invocation) {
   RunConfig rc = invocation.settings_config();
   PerturbSettings s;
   s.input = protocols::existing_file(rc, "input.sample");
@@ -77,7 +77,8 @@ constexpr int initial_phase = 0;  // the reference equilibrium; draws are phases
 
 void run_perturb(const protocols::Invocation& invocation, bool quiet,
                  const protocols::Checkpoint* checkpoint) {
-  const PerturbSettings s = read_settings(invocation);  // settings errors come before any output
+  const PerturbSettings s =
+      read_perturb_settings(invocation);  // settings errors come before any output
   constexpr double pressure = 1.0;
   const std::string input_checksum = protocols::file_checksum(s.input);
   if (checkpoint) require_same_input(*checkpoint, s.input.string(), input_checksum);

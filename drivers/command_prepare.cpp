@@ -45,7 +45,7 @@ struct PrepareSettings {
   protocols::GuardSettings guard;
 };
 
-PrepareSettings read_settings(const protocols::Invocation& invocation) {
+PrepareSettings read_prepare_settings(const protocols::Invocation& invocation) {
   RunConfig rc = invocation.settings_config();
   PrepareSettings s;
   s.gas.n = static_cast<int>(rc.integer("sample.n", 100, 1, 10'000'000));
@@ -77,7 +77,8 @@ PrepareSettings read_settings(const protocols::Invocation& invocation) {
 
 void run_prepare(const protocols::Invocation& invocation, bool quiet,
                  const protocols::Checkpoint* checkpoint) {
-  const PrepareSettings s = read_settings(invocation);  // settings errors come before any output
+  const PrepareSettings s =
+      read_prepare_settings(invocation);  // settings errors come before any output
   Progress progress("prepare", 0.0, !quiet);
   protocols::RunGuard guard(s.guard, "prepare");
 
