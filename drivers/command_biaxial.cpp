@@ -118,9 +118,9 @@ std::vector<std::string> split_lines(const std::string& text) {
 
 void run_biaxial(const protocols::Invocation& invocation, bool quiet,
                  const protocols::Checkpoint* checkpoint) {
-  const BiaxialSettings s =
-      read_biaxial_settings(invocation);  // settings errors come before any output
-  constexpr double pressure = 1.0;        // units: P = 1
+  // Settings errors come before any output.
+  const BiaxialSettings s = read_biaxial_settings(invocation);
+  constexpr double pressure = 1.0;  // units: P = 1
   const std::string input_checksum = protocols::file_checksum(s.input);
   if (checkpoint) require_same_input(*checkpoint, s.input.string(), input_checksum);
   const auto started = std::chrono::steady_clock::now();

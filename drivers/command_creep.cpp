@@ -84,8 +84,8 @@ constexpr int src_phase = 0, hold_phase = 1, resumed_src_phase = 2;
 
 void run_creep(const protocols::Invocation& invocation, bool quiet,
                const protocols::Checkpoint* checkpoint) {
-  const CreepSettings s =
-      read_creep_settings(invocation);  // settings errors come before any output
+  // Settings errors come before any output.
+  const CreepSettings s = read_creep_settings(invocation);
   constexpr double pressure = 1.0;
   const std::string input_checksum = protocols::file_checksum(s.input);
   if (checkpoint) require_same_input(*checkpoint, s.input.string(), input_checksum);

@@ -77,8 +77,8 @@ constexpr int initial_phase = 0;  // the reference equilibrium; draws are phases
 
 void run_perturb(const protocols::Invocation& invocation, bool quiet,
                  const protocols::Checkpoint* checkpoint) {
-  const PerturbSettings s =
-      read_perturb_settings(invocation);  // settings errors come before any output
+  // Settings errors come before any output.
+  const PerturbSettings s = read_perturb_settings(invocation);
   constexpr double pressure = 1.0;
   const std::string input_checksum = protocols::file_checksum(s.input);
   if (checkpoint) require_same_input(*checkpoint, s.input.string(), input_checksum);

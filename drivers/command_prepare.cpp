@@ -77,8 +77,8 @@ PrepareSettings read_prepare_settings(const protocols::Invocation& invocation) {
 
 void run_prepare(const protocols::Invocation& invocation, bool quiet,
                  const protocols::Checkpoint* checkpoint) {
-  const PrepareSettings s =
-      read_prepare_settings(invocation);  // settings errors come before any output
+  // Settings errors come before any output.
+  const PrepareSettings s = read_prepare_settings(invocation);
   Progress progress("prepare", 0.0, !quiet);
   protocols::RunGuard guard(s.guard, "prepare");
 
