@@ -10,6 +10,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "common/start_state.hpp"
 #include "common/equilibrium.hpp"
 #include "common/io/configuration_file.hpp"
 #include "common/io/json_text.hpp"
@@ -54,7 +55,8 @@ std::string wall_stress_text(const Configuration& c) {
 }
 
 void print_text(const InfoOptions& o, const Configuration& c, const Measurements& m,
-                const EquilibriumReport& r, std::ostream& out) {
+                const StartStateReport& start, std::ostream& out) {
+  const EquilibriumReport& r = start.equilibrium;
   const auto& L = c.cell.length;
   out << "sample           " << o.sample << "\n"
       << "N                " << m.n_disks << "\n"
@@ -90,6 +92,13 @@ void print_text(const InfoOptions& o, const Configuration& c, const Measurements
       out << "not checked (control: " << control_name(c.stage.control[a]) << ")\n";
   }
   out << "  in equilibrium " << (r.in_equilibrium ? "yes" : "no") << "\n";
+  // What the static commands check before they start (common/start_state.hpp).
+  out << "start state (static runs)\n  geometry       " << (start.geometry_ok() ? "pass" : "FAIL")
+      << "\n";
+  for (const std::string& g : start.geometry) out << "    " << g << "\n";
+  out << "  equilibrium    "
+      << (r.in_equilibrium ? "pass" : "FAIL (q1, compare and probe need --polish)") << "\n";
+  for (const std::string& f : equilibrium_failures(r, o.tolerances)) out << "    " << f << "\n";
 }
 
 std::string json(double v) { return json_number(v); }
@@ -98,7 +107,8 @@ std::string json(const char* s) { return json(std::string_view(s)); }
 std::string json(bool b) { return b ? "true" : "false"; }
 
 void print_json(const InfoOptions& o, const Configuration& c, const Measurements& m,
-                const EquilibriumReport& r, std::ostream& out) {
+                const StartStateReport& start, std::ostream& out) {
+  const EquilibriumReport& r = start.equilibrium;
   const auto& s = m.sigma;
   out << "{\n"
       << "  \"sample\": " << json(o.sample) << ",\n"
@@ -138,14 +148,18 @@ void print_json(const InfoOptions& o, const Configuration& c, const Measurements
       << "    \"torque_ok\": " << json(r.torque_ok) << ",\n"
       << "    \"stress_ok\": " << json(r.stress_ok) << ",\n"
       << "    \"in_equilibrium\": " << json(r.in_equilibrium) << "\n"
-      << "  }\n"
+      << "  },\n"
+      << "  \"geometry_problems\": [";
+  for (std::size_t k = 0; k < start.geometry.size(); ++k)
+    out << (k ? ", " : "") << json(std::string_view(start.geometry[k]));
+  out << "]\n"
       << "}\n";
 }
 
 void run_info(const InfoOptions& o) {
   const Configuration config = read_configuration(o.sample);
   const Measurements measured = measure(config);
-  const EquilibriumReport report = check_equilibrium(config, measured, o.tolerances);
+  const StartStateReport report = check_start_state(config, o.tolerances);
   // Formatted in full before printing: an error never leaves half a report on stdout.
   std::ostringstream out;
   if (o.json)
@@ -153,6 +167,10 @@ void run_info(const InfoOptions& o) {
   else
     print_text(o, config, measured, report, out);
   std::cout << out.str() << std::flush;
+  // A broken geometry is an error (exit 1); a state out of equilibrium is a finding (exit 0).
+  if (!report.geometry_ok())
+    throw std::runtime_error(o.sample + ": the geometry is broken (" +
+                             std::to_string(report.geometry.size()) + " problems, listed above)");
 }
 
 }  // namespace

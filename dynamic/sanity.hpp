@@ -9,20 +9,13 @@
 #include <string>
 
 #include "common/configuration.hpp"
+#include "common/sanity_limits.hpp"
 #include "engine.hpp"
 
 namespace granstab::dynamic {
 
-struct SanityLimits {
-  // Largest overlap h of a contact as a fraction of the smaller radius of the two disks (the
-  // radius of the disk for a wall contact). Healthy runs at P = 1: h / r ~ 1 / kappa per unit of
-  // contact force, ~1e-3 at kappa = 1e3, ~0.1 in the compaction overshoot of a kappa = 1e3 sample.
-  double max_overlap_fraction = 0.5;
-  // Largest kinetic energy of one disk (fluctuating translation + rotation) in units of
-  // K_N r_i^2 / 2, the elastic energy of an overlap of its whole radius: a disk with that much
-  // energy can push through its neighbours. Healthy runs stay below ~1e-3 (docs/reliability.md).
-  double max_kinetic_energy = 1.0;
-};
+// The limits are shared with the static start-state validation (common/sanity_limits.hpp).
+using SanityLimits = granstab::SanityLimits;
 
 // The first blow-up found in the engine's current state, as a message naming the quantity, the
 // disk (or contact, or cell axis), the step and the value; nullopt when the state is sane.
