@@ -23,6 +23,7 @@
 #include "common/run_config.hpp"
 #include "crosscheck.hpp"
 #include "stability_probe.hpp"
+#include "static_start.hpp"
 #include "dynamic/protocols/settings.hpp"
 #include "resumable.hpp"
 
@@ -34,6 +35,7 @@ struct CompareCommandOptions {
   std::string out = "compare-out";
   std::vector<std::string> overrides;  // --set: [engine], [checkpoint] and [sanity] settings
   crosscheck::CrosscheckOptions run;
+  StaticStartOptions start;  // --mu, --kt-ratio, --set material.*, --polish, ...
 };
 
 void print_verdict(const crosscheck::CrosscheckResult& r, const std::filesystem::path& dir) {
@@ -112,9 +114,6 @@ void add_options(CLI::App& cmd, CompareCommandOptions& o) {
                  "dynamic increments beyond q1 when --q-max is not given")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--mu", o.run.mu,
-                 "friction of the biaxial stage, both methods (default: the sample's material.mu)")
-      ->check(CLI::NonNegativeNumber);
   cmd.add_option("--out", o.out, "output directory")->capture_default_str();
   cmd.add_option("--force-tolerance", o.run.equilibration.tolerances.force,
                  "dynamic SPEC 3.1 net-force tolerance (units of aP)")
@@ -162,7 +161,9 @@ void add_options(CLI::App& cmd, CompareCommandOptions& o) {
                  "key=value: the dynamic half's engine.dt_fraction, engine.skin, checkpoint.path "
                  "(default OUT/compare.checkpoint), checkpoint.every_steps, "
                  "checkpoint.every_seconds, sanity.* (as in the settings of the other commands, "
-                 "docs/reliability.md)");
+                 "docs/reliability.md); material.KEY=VALUE sets the biaxial stage's material "
+                 "for both methods (KEY: k_n, k_t, mu, zeta, mu_wall)");
+  add_static_start_options(cmd, o.start, false);
 }
 
 CompareCommandOptions parse_arguments(const std::vector<std::string>& arguments) {
@@ -171,6 +172,7 @@ CompareCommandOptions parse_arguments(const std::vector<std::string>& arguments)
   add_options(parser, o);
   std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());  // CLI11's order
   parser.parse(reversed);
+  split_material_settings(o.overrides, o.start);
   return o;
 }
 
@@ -203,7 +205,11 @@ void run_compare(const protocols::Invocation& invocation, const protocols::Check
   std::vector<std::filesystem::path> outputs{guard_settings.checkpoint};
   for (const char* name : output_names) outputs.push_back(dir / name);
   protocols::remove_stale_temporaries(outputs);
-  const Configuration sample = read_configuration(o.sample);
+  // Validated before any output exists: a refused start leaves no file behind.
+  const StaticStart start = read_static_start(o.sample, o.start, crosscheck::require_biaxial_start);
+  const Configuration& sample = start.config;
+  o.run.statics.on_progress =
+      static_progress("compare (static half)", !o.start.quiet, o.run.q_max, "--q-max");
   const std::string input_checksum = protocols::file_checksum(o.sample);
   if (checkpoint) require_same_input(*checkpoint, o.sample, input_checksum);
 
@@ -257,7 +263,8 @@ void run_compare(const protocols::Invocation& invocation, const protocols::Check
       std::chrono::duration<double>(std::chrono::steady_clock::now() - probe_start).count();
 
   // Everything is formatted before the first file is written: an error leaves no partial output.
-  const crosscheck::JsonContext context{o.sample, o.run.dq, o.run.q_max};
+  const crosscheck::JsonContext context{o.sample, o.run.dq, o.run.q_max,
+                                        static_start_json(start, "  ") + ",\n"};
   const std::string texts[] = {
       crosscheck::static_curve_csv(r.statics),    crosscheck::dynamic_curve_csv(r.dynamic),
       crosscheck::matched_csv(r.comparison),      crosscheck::disks_at_q1_csv(r.statics),
@@ -284,9 +291,13 @@ void add_compare_command(CLI::App& app) {
     const std::vector<std::string>& line = command_line();
     const auto at = std::find(line.begin(), line.end(), "compare");
     if (at == line.end()) throw std::logic_error("compare: not on the command line");
-    run_compare(
-        protocols::Invocation::from_arguments("compare", {at + 1, line.end()}, o->overrides),
-        nullptr);
+    // The material.* settings are the static start's (parsed again by run_compare), not the
+    // dynamic half's [engine] / [checkpoint] / [sanity] settings.
+    std::vector<std::string> settings = o->overrides;
+    StaticStartOptions ignored;
+    split_material_settings(settings, ignored);
+    run_compare(protocols::Invocation::from_arguments("compare", {at + 1, line.end()}, settings),
+                nullptr);
   });
 }
 

@@ -16,6 +16,7 @@
 #include "common/io/configuration_file.hpp"
 #include "crosscheck.hpp"
 #include "stability_probe.hpp"
+#include "static_start.hpp"
 
 namespace granstab::cli {
 namespace {
@@ -28,6 +29,7 @@ struct ProbeCommandOptions {
   bool probe = true;
   crosscheck::CrosscheckOptions run;
   crosscheck::ProbeOptions probe_options;
+  StaticStartOptions start;  // --mu, --kt-ratio, --set material.*, --polish, --quiet
 };
 
 std::string state_name(double q) {
@@ -37,7 +39,10 @@ std::string state_name(double q) {
 }
 
 void run_probe(ProbeCommandOptions o) {
-  const Configuration sample = read_configuration(o.sample);
+  // Validated before any output exists: a refused start leaves no file behind.
+  const Configuration sample = read_static_start(o.sample, o.start, crosscheck::require_biaxial_start).config;
+  o.run.statics.on_progress =
+      static_progress("probe (static run)", !o.start.quiet, o.run.q_max, "--q-max");
   o.run.rigid_limit = false;
   o.run.statics.hill = false;  // logged only: the path does not depend on it (checked)
   o.probe_options.equilibration = o.run.equilibration;
@@ -123,8 +128,7 @@ void add_probe_command(CLI::App& app) {
   cmd->add_option("--dq", o->run.dq, "delta q of the static run (as in compare)")
       ->required()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--mu", o->run.mu, "friction of the biaxial stage (default: the sample's)")
-      ->check(CLI::NonNegativeNumber);
+  add_static_start_options(*cmd, o->start, true);
   cmd->add_option("--static-substeps", o->run.static_substeps, "as in compare")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -17,6 +17,7 @@
 #include "common/io/configuration_file.hpp"
 #include "common/io/json_text.hpp"
 #include "crosscheck.hpp"
+#include "static_start.hpp"
 #include "static/q1.hpp"
 #include "static/rigid_limit.hpp"
 
@@ -28,18 +29,20 @@ struct Q1CommandOptions {
   std::string out = ".";
   std::string control = "stress";
   statics::Q1Options q1;
+  StaticStartOptions start;
 };
 
 // static_curve.csv and unstable_mode.csv: the one writer shared with `granstab compare`
 // (drivers/crosscheck.hpp).
 
-std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
+std::string q1_json(const Q1CommandOptions& o, const StaticStart& start,
                     const statics::StabilityResult& r, const statics::RigidLimitResult& rigid,
                     double seconds) {
   std::ostringstream s;
   s << "{\n"
     << "  \"sample\": " << json_string(o.sample) << ",\n"
     << "  \"control\": " << json_string(o.control) << ",\n"
+    << static_start_json(start, "  ") << ",\n"
     << "  \"q1\": " << json_number(r.q1) << ",\n"
     << "  \"q1_bracket\": [" << json_number(r.q1_bracket[0]) << ", " << json_number(r.q1_bracket[1])
     << "],\n"
@@ -56,8 +59,8 @@ std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
     // q_max of the frozen initial network (SPEC §4.5); null when unbounded or failed, see status.
     << "  \"q_max_rigid\": " << json_number(rigid.q_max) << ",\n"
     << "  \"q_max_rigid_status\": " << json_string(rigid.status) << ",\n"
-    << "  \"n_disks\": " << config.disks.size() << ",\n"
-    << "  \"n_contacts\": " << config.contacts.size() << ",\n"
+    << "  \"n_disks\": " << start.config.disks.size() << ",\n"
+    << "  \"n_contacts\": " << start.config.contacts.size() << ",\n"
     << "  \"steps\": " << r.steps << ",\n"
     << "  \"rejected_steps\": {" <<
       [&] {
@@ -80,17 +83,23 @@ std::string q1_json(const Q1CommandOptions& o, const Configuration& config,
 
 void run_q1(Q1CommandOptions o) {
   const auto start = std::chrono::steady_clock::now();
-  const Configuration config = read_configuration(o.sample);
+  // Validated before any output exists: a refused start leaves no file behind.
+  const StaticStart sample = read_static_start(o.sample, o.start);
   o.q1.control = o.control == "strain" ? statics::Control::strain : statics::Control::stress;
-  const statics::StabilityResult r = statics::find_q1(config, o.q1);
-  const statics::RigidLimitResult rigid = statics::rigid_limit(config);
+  // The rigid-limit bound first: it is the progress lines' target for q1 (an upper bound).
+  const statics::RigidLimitResult rigid = statics::rigid_limit(sample.config);
+  const bool stress = o.q1.control == statics::Control::stress;
+  o.q1.on_progress = static_progress(
+      "q1", !o.start.quiet, stress ? std::min(o.q1.load_stop, rigid.q_max) : o.q1.load_stop,
+      "q_max_rigid (an upper bound of q1) or --stop");
+  const statics::StabilityResult r = statics::find_q1(sample.config, o.q1);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::filesystem::path dir = o.out;
   std::filesystem::create_directories(dir);
   write_file_atomically(dir / "static_curve.csv", crosscheck::static_curve_csv(r));
   write_file_atomically(dir / "unstable_mode.csv", crosscheck::mode_csv(r));
-  write_file_atomically(dir / "q1.json", q1_json(o, config, r, rigid, seconds));
+  write_file_atomically(dir / "q1.json", q1_json(o, sample, r, rigid, seconds));
   char line[256];
   std::snprintf(line, sizeof line,
                 "q1 = %.9g in [%.9g, %.9g] (%s), %zu sliding, %d steps, q_max_rigid = %.9g (%s), "
@@ -129,6 +138,7 @@ void add_q1_command(CLI::App& app) {
   cmd->add_flag("!--no-hill", options->q1.hill,
                 "skip the Hill indicator (smallest eigenvalue "
                 "of the symmetric part) at every state");
+  add_static_start_options(*cmd, options->start, true);
   cmd->callback([options] { run_q1(*options); });
 }
 

@@ -167,6 +167,10 @@ Configuration biaxial_start(const Configuration& sample, double mu) {
   return start;
 }
 
+void require_biaxial_start(const Configuration& sample) {
+  biaxial_start(sample, sample.material.mu);
+}
+
 void run_dynamic(const Configuration& from, const CrosscheckOptions& options, double q_end,
                  DynamicRun& run, const protocols::LoopControl& control) {
   Engine engine(from, options.engine);
@@ -426,6 +430,7 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"kappa\": " << json_number(r.start.material.kappa(r.pressure)) << ",\n"
     << "  \"mu\": " << json_number(r.mu) << ",\n"
     << "  \"pressure\": " << json_number(r.pressure) << ",\n"
+    << x.start_fields
     << "  \"dq\": " << json_number(x.dq) << ",\n"
     << "  \"dynamic_substeps\": " << o.dynamic_substeps << ",\n"
     << "  \"static_substeps\": " << o.static_substeps << ",\n"

@@ -158,6 +158,8 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
 // under stress control. Throws std::invalid_argument when the sample is not under an isotropic
 // stress-controlled stage or mu is not a finite number >= 0.
 Configuration biaxial_start(const Configuration& sample, double mu);
+// The same checks without the copy (for read_static_start's `require`).
+void require_biaxial_start(const Configuration& sample);
 
 // Dynamic SIC from the start state: q = k dq up to q_end (inclusive, to round-off), appended to
 // `run` (empty at a start). Safe points (control.hooks) are those of run_stress_steps; at each,
@@ -226,6 +228,7 @@ std::string mode_csv(const statics::StabilityResult& result);
 struct JsonContext {
   std::string sample;
   double dq = 0.0, q_max = 0.0;
+  std::string start_fields;  // lines "  \"key\": value,\n" about the start (static_start.hpp)
 };
 std::string compare_json(const JsonContext& context, const CrosscheckOptions& options,
                          const CrosscheckResult& result);

@@ -1,5 +1,6 @@
 #include "static/q1.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -186,7 +187,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   // that a run gives the same bits whatever ran before it in this thread.
   forget_factorisations();
   path(net, lambda0);
-  prepare(net, options.solver);
+  result.polish = polish_start(net, options.solver);
   double lambda = lambda0;
   double step = options.dq;
   CurvePoint point = measure(net, lambda, reference_length);
@@ -215,6 +216,13 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     return result;
   }
   PredictorResult last_check = check;
+  int attempts = 0;
+  const auto report_progress = [&](double at) {
+    if (options.on_progress)
+      options.on_progress({at, static_cast<int>(result.curve.size()), attempts,
+                           result.curve.back().n_sliding, step});
+  };
+  report_progress(lambda);
 
   int successes_since_cut = 0;
   std::vector<char> beyond;  // contacts the latest failed attempt made slide
@@ -222,6 +230,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     Network trial = net;
     path(trial, lambda + step);
     const StepResult s = load_step(trial, options.solver, &result.timings, &last_check);
+    ++attempts;
     bool accepted = false;
     beyond = s.predictor.ever_sliding;
     if (s.ok) {
@@ -256,6 +265,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       result.curve.push_back(p);
       if (options.on_accepted) options.on_accepted(lambda, net);
       last_check = check;
+      report_progress(lambda);
       // Grow back after cuts, never beyond the user's step.
       if (++successes_since_cut >= 2 && step < options.dq) {
         step = std::min(options.dq, 2.0 * step);
@@ -264,6 +274,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       continue;
     }
     ++result.rejected[detail];
+    report_progress(lambda);
     // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
     if (step * 0.5 < options.dq_min) {
       result.q1 = lambda;
@@ -283,6 +294,27 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   result.detail = "stopped while stable";
   result.network_at_q1 = net;
   return result;
+}
+
+StartPolish polish_start(Network& net, const SolverOptions& options) {
+  const Network before = net;
+  const NewtonResult polish = prepare(net, options);
+  StartPolish out;
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    const double u = std::hypot(net.x[i] - before.x[i], net.y[i] - before.y[i]);
+    if (u > out.max_displacement) {
+      out.max_displacement = u;
+      out.max_displacement_disk = i;
+    }
+    out.max_rotation = std::max(out.max_rotation, std::abs(net.theta[i] - before.theta[i]));
+  }
+  for (int a = 0; a < 2; ++a)
+    out.max_strain = std::max(out.max_strain, std::abs(net.length[a] / before.length[a] - 1.0));
+  if (!polish.residual_history.empty()) {
+    out.residual_before = polish.residual_history.front();
+    out.residual_after = polish.residual_history.back();
+  }
+  return out;
 }
 
 StabilityResult find_q1(const Configuration& config, const Q1Options& options) {

@@ -26,6 +26,15 @@ enum class Criterion {
 };
 const char* criterion_name(Criterion c);
 
+// What the stepping reports after each attempt, for progress lines (drivers/static_progress.hpp).
+struct StepProgress {
+  double load = 0.0;  // the load parameter of the last accepted state
+  int states = 0;     // accepted states so far, the start included
+  int attempts = 0;   // steps tried (accepted + cut)
+  int n_sliding = 0;  // sliding contacts at the last accepted state
+  double step = 0.0;  // the current step of the load parameter
+};
+
 struct Q1Options {
   double dq = 1e-3;      // step of the load parameter (q; epsilon_2 under strain control)
   double dq_min = 1e-7;  // step floor: q1 is bracketed to [q, q + 2 dq_min) at worst
@@ -46,6 +55,8 @@ struct Q1Options {
   // ended, while `granstab probe --at` knows its loads in advance; each keeps what it needs. It
   // sees the state read-only and does not change the stepping; unset, it costs one test per step.
   std::function<void(double load, const Network& net)> on_accepted;
+  // Called after the start and after every attempt; unset, it costs one test per attempt.
+  std::function<void(const StepProgress&)> on_progress;
 };
 
 struct CurvePoint {
@@ -65,6 +76,15 @@ struct SlidingContact {
   double f_n, f_t;
 };
 
+// How far the §S3.0 polish moved the start to equilibrium (what --polish reports).
+struct StartPolish {
+  double max_displacement = 0.0;  // largest disk displacement, units of a
+  std::size_t max_displacement_disk = 0;
+  double max_rotation = 0.0;                           // largest disk rotation, radians
+  double max_strain = 0.0;                             // largest |Delta L_a / L_a|
+  double residual_before = 0.0, residual_after = 0.0;  // relative residuals of the polish
+};
+
 struct StabilityResult {
   std::vector<CurvePoint> curve;
   double q1 = 0.0;                     // last stable value of the load parameter
@@ -80,10 +100,14 @@ struct StabilityResult {
   // statuses of the check) have none and a zero entry in mode that is no displacement.
   std::vector<char> mode_disk_active;
   Network network_at_q1;
+  StartPolish polish;
   Timings timings;
   int steps = 0;
   std::map<std::string, int> rejected;  // attempts cut by step control, by reason
 };
+
+// §S3.0 on net (statics::prepare: rattlers, dofs, the equilibrium polished) and how far it moved.
+StartPolish polish_start(Network& net, const SolverOptions& options);
 
 // Moves the loads of net to the value lambda of the load parameter.
 using LoadPath = std::function<void(Network& net, double lambda)>;

@@ -1,0 +1,133 @@
+#include "static_start.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+
+#include "common/io/configuration_file.hpp"
+#include "common/io/json_text.hpp"
+#include "common/progress.hpp"
+#include "common/start_state.hpp"
+#include "stability_probe.hpp"
+#include "static/network.hpp"
+
+namespace granstab::cli {
+
+MaterialOverrides StaticStartOptions::overrides() const {
+  MaterialOverrides o;
+  for (const std::string& s : material_settings) o.set.push_back(parse_material_setting(s));
+  o.kt_ratio = kt_ratio;
+  o.mu = mu;
+  o.clip_to_cone = clip_to_cone;
+  return o;
+}
+
+void add_static_start_options(CLI::App& cmd, StaticStartOptions& o, bool with_set) {
+  cmd.add_option("--mu", o.mu, "friction of the biaxial stage (default: the sample's material.mu)")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--kt-ratio", o.kt_ratio,
+                 "K_T / K_N of the biaxial stage; the stored tangential displacements are "
+                 "rescaled so that the start's tangential forces are unchanged")
+      ->check(CLI::PositiveNumber);
+  if (with_set)
+    cmd.add_option("--set", o.material_settings,
+                   "material.KEY=VALUE (KEY: k_n, k_t, mu, zeta, mu_wall), applied before "
+                   "--kt-ratio and --mu");
+  cmd.add_flag("--clip-to-cone", o.clip_to_cone,
+               "move contacts whose |F_T| exceeds the new mu F_N onto the cone instead of "
+               "refusing the start");
+  cmd.add_flag("--polish", o.polish,
+               "accept a start out of equilibrium (SPEC 3.1): move it to equilibrium first and "
+               "report how far");
+  cmd.add_flag("--quiet", o.quiet, "no progress on stderr");
+}
+
+void split_material_settings(std::vector<std::string>& settings, StaticStartOptions& o) {
+  std::vector<std::string> rest;
+  for (std::string& s : settings)
+    (s.rfind("material.", 0) == 0 ? o.material_settings : rest).push_back(std::move(s));
+  settings = std::move(rest);
+}
+
+StaticStart read_static_start(const std::string& path, const StaticStartOptions& options,
+                              const std::function<void(const Configuration&)>& require) {
+  StaticStart out;
+  out.config = read_configuration(path);
+  try {
+    out.material = apply_material_overrides(out.config, options.overrides());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+  if (out.material.clipped > 0 && !options.quiet)
+    std::cerr << path << ": " << out.material.clipped
+              << " contacts moved onto the Coulomb cone (--clip-to-cone)\n";
+  if (require) require(out.config);
+  validate_start_state(out.config, path, options.polish);
+  if (!options.polish) return out;
+
+  // The polish of the static solver (§S3.0) on the biaxial start's loads, then back to a
+  // configuration, so that every method of the command starts from the same polished state.
+  statics::Network net = statics::network_from_configuration(out.config);
+  net.constraints.cell_free = {true, true};
+  net.constraints.remove_rattlers = true;
+  net.loading.sigma = out.config.stage.sigma_ext;
+  out.polish = statics::polish_start(net, statics::SolverOptions{});
+  out.config = crosscheck::configuration_of_static_state(net, out.config);
+  const StartStateReport after = check_start_state(out.config);
+  if (!options.quiet) {
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "%s: polished to equilibrium: disks moved by at most %.3g a (disk %zu), "
+                  "rotated by at most %.3g rad, cell strained by at most %.3g; relative "
+                  "residual %.3g -> %.3g%s\n",
+                  path.c_str(), out.polish->max_displacement, out.polish->max_displacement_disk,
+                  out.polish->max_rotation, out.polish->max_strain, out.polish->residual_before,
+                  out.polish->residual_after,
+                  after.equilibrium.in_equilibrium ? "" : " (still outside SPEC 3.1)");
+    std::cerr << line;
+  }
+  return out;
+}
+
+std::function<void(const statics::StepProgress&)> static_progress(std::string label, bool enabled,
+                                                                  double target,
+                                                                  std::string target_name) {
+  if (!enabled) return {};
+  struct State {
+    std::unique_ptr<Progress> progress;
+    double load0 = NAN;
+  };
+  auto state = std::make_shared<State>();
+  state->progress = std::make_unique<Progress>(label, 0.0, true);
+  return [state, target, basis = "rate so far, to " + target_name](const statics::StepProgress& p) {
+    if (std::isnan(state->load0)) state->load0 = p.load;
+    const double elapsed = state->progress->elapsed_seconds();
+    std::optional<double> left;
+    if (std::isfinite(target) && p.load > state->load0 && target > p.load)
+      left = elapsed * (target - p.load) / (p.load - state->load0);
+    char detail[200];
+    std::snprintf(detail, sizeof detail, "q %.6g  states %d  attempts %d  sliding %d  %.3g s/state",
+                  p.load, p.states, p.attempts, p.n_sliding,
+                  p.states > 0 ? elapsed / p.states : 0.0);
+    state->progress->update_estimated(p.states, left, std::isfinite(target) ? basis : "", detail);
+  };
+}
+
+std::string static_start_json(const StaticStart& start, const std::string& indent) {
+  std::string s = indent + "\"material\": " + material_json(start.config.material) + ",\n" +
+                  indent + "\"clipped_to_cone\": " + std::to_string(start.material.clipped) +
+                  ",\n" + indent + "\"start_polish\": ";
+  if (!start.polish) return s + "null";
+  const statics::StartPolish& p = *start.polish;
+  return s + "{\"max_displacement\": " + json_number(p.max_displacement) +
+         ", \"max_displacement_disk\": " + std::to_string(p.max_displacement_disk) +
+         ", \"max_rotation\": " + json_number(p.max_rotation) +
+         ", \"max_strain\": " + json_number(p.max_strain) +
+         ", \"residual_before\": " + json_number(p.residual_before) +
+         ", \"residual_after\": " + json_number(p.residual_after) + "}";
+}
+
+}  // namespace granstab::cli
