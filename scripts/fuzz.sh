@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes the input readers (issue #8, docs/reliability.md) with libFuzzer + ASan + UBSan:
 #   scripts/fuzz.sh [SECONDS [TARGET...]]     SECONDS per target (default 60);
-#   targets: configuration (the .granstab reader) and run_config (the TOML run settings).
+#   targets: configuration (the .granstab reader), run_config (the TOML run settings) and
+#   material_options (--mu / --kt-ratio / --set material.* of the static commands).
 # Builds tests/fuzz with clang++ into ${FUZZ_BUILD_DIR:-build-fuzz}; the growing corpus is kept
 # in <build>/corpus/TARGET, and every crash, hang (> 10 s on one input) or contract violation
 # as <build>/artifacts/TARGET/crash-* (timeout-*, oom-*). Exits 1 if any target found something.
@@ -11,7 +12,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(configuration run_config)
+[ ${#targets[@]} -eq 0 ] && targets=(configuration run_config material_options)
 build=${FUZZ_BUILD_DIR:-$root/build-fuzz}
 
 cmake -S "$root/tests/fuzz" -B "$build" -DCMAKE_CXX_COMPILER=clang++ \
@@ -21,7 +22,8 @@ cmake --build "$build" -j "$(nproc)"
 # Seeds: the hand-written ones, the shipped samples, the documented example, shipped settings.
 seeds=$build/seeds
 rm -rf "$seeds"
-mkdir -p "$seeds/configuration" "$seeds/run_config"
+mkdir -p "$seeds/configuration" "$seeds/run_config" "$seeds/material_options"
+cp "$root"/tests/fuzz/seeds/material_options/* "$seeds/material_options/" 2>/dev/null || true
 cp "$root"/tests/fuzz/seeds/configuration/* "$root"/tests/fuzz/regressions/configuration/* \
   "$seeds/configuration/" 2>/dev/null || true
 cp "$root"/data/samples/*.granstab "$seeds/configuration/" 2>/dev/null || true

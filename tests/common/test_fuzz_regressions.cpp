@@ -84,6 +84,10 @@ TEST(FuzzRegressions, SeedCorpusKeepsTheContract) {
     SCOPED_TRACE(file.string());
     EXPECT_EQ(fuzz::run_config_violation(contents(file)), "");
   }
+  for (const auto& file : files_in(fuzz_dir / "seeds" / "material_options")) {
+    SCOPED_TRACE(file.string());
+    EXPECT_EQ(fuzz::material_options_violation(contents(file)), "");
+  }
 }
 
 // toml++ 3.3 reaches __builtin_unreachable on some non-ASCII characters in keys, after tokens

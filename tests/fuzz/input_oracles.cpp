@@ -1,6 +1,9 @@
 #include "input_oracles.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <string>
 #include <cstdint>
 #include <exception>
 #include <limits>
@@ -9,6 +12,8 @@
 #include <vector>
 
 #include "common/io/configuration_file.hpp"
+#include "common/material_override.hpp"
+#include "common/measurements.hpp"
 #include "common/run_config.hpp"
 
 namespace granstab::fuzz {
@@ -118,6 +123,62 @@ std::string run_config_violation(std::string_view input) {
     return "RunConfig threw a non-standard exception";
   }
   return {};
+}
+
+std::string material_options_violation(std::string_view input) {
+  Configuration config;
+  config.cell.length = {10.0, 10.0};
+  config.material = Material::from_kappa(1e4, 1.0, 0.5, 1.0);
+  config.disks.add(4.0, 5.0, 0.5);
+  config.disks.add(4.999, 5.0, 0.5);
+  // Overlap 1e-3: F_N = 10; F_T = -K_T delta_t = 2, inside the cone of mu = 0.5.
+  config.contacts.add(0, 1, 0, 0, -2e-4);
+  MaterialOverrides o;
+  std::string_view rest = input;
+  while (!rest.empty()) {
+    const std::size_t end = std::min(rest.find('\n'), rest.size());
+    const std::string_view line = rest.substr(0, end);
+    rest.remove_prefix(std::min(end + 1, rest.size()));
+    const auto number = [&](std::size_t skip) {
+      double v = std::numeric_limits<double>::quiet_NaN();
+      if (line.size() > skip) std::from_chars(line.data() + skip, line.data() + line.size(), v);
+      return v;
+    };
+    try {
+      if (line.starts_with("mu "))
+        o.mu = number(3);
+      else if (line.starts_with("kt_ratio "))
+        o.kt_ratio = number(9);
+      else if (line.starts_with("set "))
+        o.set.push_back(parse_material_setting(std::string(line.substr(4))));
+      else if (line == "clip")
+        o.clip_to_cone = true;
+    } catch (const std::invalid_argument&) {
+      return "";  // a rejected --set text
+    } catch (const std::exception& e) {
+      return std::string("parse_material_setting threw ") + typeid(e).name() + ": " + e.what();
+    }
+  }
+  const double f_t_before = -config.material.k_t * config.contacts.delta_t[0];
+  try {
+    apply_material_overrides(config, o);
+  } catch (const std::invalid_argument&) {
+    return "";
+  } catch (const std::exception& e) {
+    return std::string("apply_material_overrides threw ") + typeid(e).name() + ": " + e.what();
+  }
+  try {
+    validate(config.material);
+  } catch (const std::exception& e) {
+    return std::string("accepted an invalid material: ") + e.what();
+  }
+  const double f_n = config.material.k_n * contact_frame(config, 0).h;
+  const double f_t = -config.material.k_t * config.contacts.delta_t[0];
+  if (!(std::abs(f_t) <= config.material.mu * f_n * (1.0 + 1e-9)))
+    return "accepted a contact outside its cone";
+  if (!o.clip_to_cone && !(std::abs(f_t - f_t_before) <= 1e-12 * std::abs(f_t_before)))
+    return "changed the tangential force without clipping";
+  return "";
 }
 
 }  // namespace granstab::fuzz

@@ -23,4 +23,11 @@ std::string configuration_violation(std::string_view input);
 inline constexpr std::string_view run_config_source = "fuzz.toml";
 std::string run_config_violation(std::string_view input);
 
+// The biaxial material options of q1 / compare / probe (common/material_override.hpp) on a
+// two-disk contact carrying a tangential force. Each input line is an option: "mu X",
+// "kt_ratio X", "set TEXT" (parse_material_setting) or "clip". A rejection must be a
+// std::invalid_argument; an accepted set must give a valid material, keep every contact inside
+// its cone and, without clipping, keep the tangential force F_T = -K_T delta_t.
+std::string material_options_violation(std::string_view input);
+
 }  // namespace granstab::fuzz
