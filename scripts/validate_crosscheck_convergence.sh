@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Where the static/dynamic differences of the cross-check come from (issue #6,
-# docs/user-guide.md "What the cross-check shows", item 7). Not part of ctest.
+# docs/crosscheck.md, item 7). Not part of ctest.
 # The script varies each of the three sources of difference alone, on the shipped N = 100 sample:
 #   - the static step: granstab q1 with steps 1e-3, 1e-4 and 1e-5;
 #   - the dynamic tolerances and the dynamic stress step: granstab compare with all three
