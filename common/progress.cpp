@@ -75,8 +75,20 @@ std::string Progress::format_estimated(std::string_view label, double done, doub
   return line;
 }
 
+namespace {
+thread_local ProgressObserver observer;
+}  // namespace
+
+ScopedProgressObserver::ScopedProgressObserver(ProgressObserver o)
+    : previous_(std::move(observer)) {
+  observer = std::move(o);
+}
+ScopedProgressObserver::~ScopedProgressObserver() { observer = std::move(previous_); }
+bool has_progress_observer() { return static_cast<bool>(observer); }
+
 void Progress::update_estimated(double done, std::optional<double> seconds_left,
                                 std::string_view basis, std::string_view detail) {
+  if (observer) observer(label_, done, 0.0, detail);
   if (!enabled_) return;
   const auto now = Clock::now();
   if (std::chrono::duration<double>(now - last_).count() < interval_) return;
@@ -116,6 +128,7 @@ std::optional<double> DecayEstimate::steps_left() const {
 }
 
 void Progress::update(double done, std::string_view detail) {
+  if (observer) observer(label_, done, total_, detail);
   if (!enabled_) return;
   const auto now = Clock::now();
   if (std::chrono::duration<double>(now - last_).count() < interval_) return;

@@ -2,6 +2,7 @@
 // Progress of a long run on stderr with an ETA (issue #4). One line every `interval` seconds
 // (lines, not carriage returns, so a log file stays readable); disabled by --quiet.
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -44,6 +45,24 @@ class Progress {
   double interval_;
   Clock::time_point start_, last_;
 };
+
+// An observer of every progress update of this thread, printed or not (--quiet): the Python
+// module's progress callback. Called with the label, the work done, the expected total (<= 0:
+// unknown) and the detail text; it may throw to stop the run (Ctrl-C in Python).
+using ProgressObserver =
+    std::function<void(std::string_view label, double done, double total, std::string_view detail)>;
+// Installs `observer` for this thread until the returned guard is destroyed.
+class ScopedProgressObserver {
+ public:
+  explicit ScopedProgressObserver(ProgressObserver observer);
+  ~ScopedProgressObserver();
+  ScopedProgressObserver(const ScopedProgressObserver&) = delete;
+  ScopedProgressObserver& operator=(const ScopedProgressObserver&) = delete;
+
+ private:
+  ProgressObserver previous_;
+};
+bool has_progress_observer();
 
 // How long until a residual that decays roughly exponentially (a run to equilibrium) falls to
 // its tolerance. Fed with ratio = residual / tolerance at each check, it fits log(ratio) against

@@ -3,7 +3,7 @@
 #include <exception>
 #include <iostream>
 
-#include "commands.hpp"
+#include "cli_app.hpp"
 #include "dynamic/protocols/run_guard.hpp"
 #include "resumable.hpp"
 
@@ -11,18 +11,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "granstab: quasistatic deformation of 2D granular packings, by molecular dynamics "
       "and by contact-network stability analysis"};
-  app.require_subcommand(1);
-  granstab::cli::add_version_command(app);
-  granstab::cli::add_info_command(app);
-  granstab::cli::add_prepare_command(app);
-  granstab::cli::add_biaxial_command(app);
-  granstab::cli::add_creep_command(app);
-  granstab::cli::add_perturb_command(app);
-  granstab::cli::add_q1_command(app);
-  granstab::cli::add_compare_command(app);
-  granstab::cli::add_probe_command(app);
-  granstab::cli::add_plot_command(app);
-  granstab::cli::add_resume_command(app);
+  granstab::cli::add_all_commands(app);
   granstab::cli::command_line().assign(argv + 1, argv + argc);
   try {
     app.parse(argc, argv);

@@ -95,13 +95,13 @@ StaticStart read_static_start(const std::string& path, const StaticStartOptions&
 std::function<void(const statics::StepProgress&)> static_progress(std::string label, bool enabled,
                                                                   double target,
                                                                   std::string target_name) {
-  if (!enabled) return {};
+  if (!enabled && !has_progress_observer()) return {};
   struct State {
     std::unique_ptr<Progress> progress;
     double load0 = NAN;
   };
   auto state = std::make_shared<State>();
-  state->progress = std::make_unique<Progress>(label, 0.0, true);
+  state->progress = std::make_unique<Progress>(label, 0.0, enabled);
   return [state, target, basis = "rate so far, to " + target_name](const statics::StepProgress& p) {
     if (std::isnan(state->load0)) state->load0 = p.load;
     const double elapsed = state->progress->elapsed_seconds();
