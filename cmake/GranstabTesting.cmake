@@ -14,6 +14,9 @@ if(GRANSTAB_TEST_PCH)
   add_library(granstab_test_pch OBJECT ${CMAKE_BINARY_DIR}/granstab_test_pch.cpp)
   target_link_libraries(granstab_test_pch PRIVATE GTest::gtest OpenMP::OpenMP_CXX)
   target_precompile_headers(granstab_test_pch PRIVATE <gtest/gtest.h>)
+  # GCC refuses a header compiled with -fPIC in a -fPIE compile: with the Python module on
+  # (CMAKE_POSITION_INDEPENDENT_CODE) the header and the tests both compile without either flag.
+  set_target_properties(granstab_test_pch PROPERTIES POSITION_INDEPENDENT_CODE OFF)
 endif()
 
 # granstab_add_test(NAME SOURCES src... LIBS lib... [THREADS n] [LABELS l...])
@@ -30,6 +33,7 @@ function(granstab_add_test name)
   if(GRANSTAB_TEST_PCH)
     target_link_libraries(${name} PRIVATE OpenMP::OpenMP_CXX)
     target_precompile_headers(${name} REUSE_FROM granstab_test_pch)
+    set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE OFF)
   endif()
   gtest_discover_tests(${name}
     DISCOVERY_MODE PRE_TEST
