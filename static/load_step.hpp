@@ -36,8 +36,8 @@ struct SolverOptions {
   // step control halves, as for any status failure (§S3.3). On: the LCP of the cluster's sliding
   // contacts decides which of them stick and the loop goes on. trace_to_instability turns it on
   // for the attempt at the step floor only, where the rate problem itself must be settled
-  // (docs/validation.md, "Floppy rotations out of balance": on in every step, it takes the
-  // finite steps through non-unique solutions and periodic-n100's q1 depends on the labels).
+  // (docs/validation.md, "Static q1: floppy rotations out of balance": on in every step, it takes
+  // the finite steps through non-unique solutions and periodic-n100's q1 depends on the labels).
   bool resolve_floppy_rotations = false;
   // Tangents of the predictor and corrector with a fixed sparsity pattern (TangentParts): one
   // UMFPACK symbolic analysis per contact list instead of one per status set (q1 at N = 5600

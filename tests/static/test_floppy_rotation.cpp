@@ -2,7 +2,7 @@
 // torque row then constrains the translations alone, so under a generic load increment it is out
 // of balance: that status set has no solution, and some contact must stick. The predictor used
 // to report such a set as "singular" and end the stepping (q1 of series A at mu = 0.25,
-// docs/validation.md "Floppy rotations out of balance").
+// docs/validation.md, "Static q1: floppy rotations out of balance ...").
 #include <gtest/gtest.h>
 
 #include <cmath>
