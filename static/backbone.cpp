@@ -1,5 +1,6 @@
 #include "static/backbone.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace granstab::statics {
@@ -108,6 +109,19 @@ void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd
   dq = std::move(moved);
 }
 
+namespace {
+
+// A sticking frictional force-carrying contact between two distinct disks with rotations: it
+// couples their rotations in a gear mode (a_i theta_i + a_j theta_j = 0).
+bool gear_link(const Network& net, const ContactState& s, ContactStatus status, std::size_t c) {
+  const DofMap& m = net.dofs;
+  const int i = net.contacts.i[c], j = net.contacts.j[c];
+  return status == ContactStatus::stick && s.frictional && s.f_n > 0.0 && !s.wall && i != j &&
+         m.theta[i] >= 0 && m.theta[j] >= 0;
+}
+
+}  // namespace
+
 std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>& states,
                             const std::vector<ContactStatus>& statuses) {
   const DofMap& m = net.dofs;
@@ -122,14 +136,14 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
     if (statuses[c] == ContactStatus::open || !s.frictional || s.f_n <= 0.0) continue;
     const int i = net.contacts.i[c], j = net.contacts.j[c];
     if (statuses[c] != ContactStatus::stick) continue;  // slip leaves theta free
-    // A sticking wall contact or a self-image contact (2 a theta = 0) forbids the gear mode.
-    if (s.wall || i == j || m.theta[j] < 0) {
-      blocked[i] = 1;
-      if (!s.wall) blocked[j] = 1;
-      continue;
-    }
-    if (m.theta[i] < 0) {
-      blocked[j] = 1;
+    if (!gear_link(net, s, statuses[c], c)) {
+      // A sticking wall contact or a self-image contact (2 a theta = 0) forbids the gear mode.
+      if (s.wall || i == j || m.theta[j] < 0) {
+        blocked[i] = 1;
+        if (!s.wall) blocked[j] = 1;
+      } else {
+        blocked[j] = 1;  // m.theta[i] < 0
+      }
       continue;
     }
     adjacent[i].push_back({j, -s.frame.a_i / s.frame.a_j});
@@ -180,6 +194,51 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
       if (d >= 0) keep[d] = 0;
   }
   return keep;
+}
+
+}  // namespace granstab::statics
+
+namespace granstab::statics {
+
+std::vector<int> sliding_contacts_of_gear_clusters(const Network& net,
+                                                   const std::vector<ContactState>& states,
+                                                   const std::vector<ContactStatus>& statuses,
+                                                   const std::vector<int>& disks) {
+  const std::size_t n = net.n_disks();
+  std::vector<std::vector<std::size_t>> touching(n);  // contacts of each disk
+  for (std::size_t c = 0; c < states.size(); ++c) {
+    touching[net.contacts.i[c]].push_back(c);
+    if (!states[c].wall && net.contacts.j[c] != net.contacts.i[c])
+      touching[net.contacts.j[c]].push_back(c);
+  }
+  std::vector<char> in_cluster(n, 0), taken(states.size(), 0);
+  std::vector<int> stack, sliding;
+  for (const int root : disks) {
+    if (root < 0 || static_cast<std::size_t>(root) >= n || in_cluster[root]) continue;
+    in_cluster[root] = 1;
+    stack.assign(1, root);
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      for (const std::size_t c : touching[i]) {
+        const ContactState& s = states[c];
+        if (gear_link(net, s, statuses[c], c)) {
+          const int other = net.contacts.i[c] == i ? net.contacts.j[c] : net.contacts.i[c];
+          if (!in_cluster[other]) {
+            in_cluster[other] = 1;
+            stack.push_back(other);
+          }
+        } else if (!taken[c] && s.frictional && s.f_n > 0.0 &&
+                   (statuses[c] == ContactStatus::slide_positive ||
+                    statuses[c] == ContactStatus::slide_negative)) {
+          taken[c] = 1;
+          sliding.push_back(static_cast<int>(c));
+        }
+      }
+    }
+  }
+  std::sort(sliding.begin(), sliding.end());
+  return sliding;
 }
 
 }  // namespace granstab::statics

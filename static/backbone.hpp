@@ -29,4 +29,14 @@ void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd
 std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>& states,
                             const std::vector<ContactStatus>& statuses);
 
+// The sliding frictional contacts of the gear clusters (as in kept_dofs) that hold the given
+// disks, in increasing order. When a pinned rotation row is out of balance (the sliding forces do
+// net work in the cluster's gear mode), these statuses admit no solution: with every contact of
+// the cluster sliding its rotation appears in no equation while its torque balance still
+// constrains the translations. Some of these contacts must then stick (plastic multiplier 0).
+std::vector<int> sliding_contacts_of_gear_clusters(const Network& net,
+                                                   const std::vector<ContactState>& states,
+                                                   const std::vector<ContactStatus>& statuses,
+                                                   const std::vector<int>& disks);
+
 }  // namespace granstab::statics

@@ -194,7 +194,12 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   if (options.on_accepted) options.on_accepted(lambda, net);
 
   // The start itself may already be unstable (no increment has a stable consistent solution).
+  // Floppy rotations out of balance are settled exactly there, as at the step floor below.
+  SolverOptions exact = options.solver;
+  exact.resolve_floppy_rotations = true;
   PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
+  if (check.unbalanced_rotations)
+    check = check_state(net, lambda, step, path, exact, &result.timings);
   int negative = negative_real_eigenvalues(net, check, options.count_negative_eigenvalues);
   point.determinant_sign = check.determinant_sign;
   point.negative_eigenvalues = negative;
@@ -226,16 +231,25 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
 
   int successes_since_cut = 0;
   std::vector<char> beyond;  // contacts the latest failed attempt made slide
+  // A status set with floppy rotations out of balance has no solution, like any inconsistent set:
+  // the step is halved (§S3.3), and smaller steps usually reach other statuses. Only the attempt
+  // at the floor settles them exactly (SolverOptions::resolve_floppy_rotations) before the
+  // failure may count as q1: there the rate problem itself is decided. (Settling them in every
+  // step takes larger steps through non-unique finite-step solutions: docs/validation.md.)
+  bool at_floor_exact = false;
   while (result.steps < options.max_steps && lambda < options.load_stop) {
+    const SolverOptions& solver = at_floor_exact ? exact : options.solver;
     Network trial = net;
     path(trial, lambda + step);
-    const StepResult s = load_step(trial, options.solver, &result.timings, &last_check);
+    const StepResult s = load_step(trial, solver, &result.timings, &last_check);
     ++attempts;
     bool accepted = false;
+    bool unbalanced = s.predictor.unbalanced_rotations;
     beyond = s.predictor.ever_sliding;
     if (s.ok) {
       rebuild_degrees_of_freedom(trial);
-      check = check_state(trial, lambda + step, step, path, options.solver, &result.timings);
+      check = check_state(trial, lambda + step, step, path, solver, &result.timings);
+      unbalanced = check.unbalanced_rotations;
       negative = negative_real_eigenvalues(trial, check, options.count_negative_eigenvalues);
       if (stable(check, negative)) {
         accepted = true;
@@ -253,6 +267,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       detail = s.failure;
     }
     if (accepted) {
+      at_floor_exact = false;
       net = std::move(trial);
       lambda += step;
       ++result.steps;
@@ -277,6 +292,10 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     report_progress(lambda);
     // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
     if (step * 0.5 < options.dq_min) {
+      if (unbalanced && !at_floor_exact) {
+        at_floor_exact = true;  // the same attempt again, settling the floppy rotations
+        continue;
+      }
       result.q1 = lambda;
       result.q1_bracket = {lambda, lambda + step};
       result.criterion = failure;

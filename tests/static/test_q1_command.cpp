@@ -32,8 +32,11 @@ TEST_F(Q1Command, WritesCurveSummaryAndMode) {
   const fs::path out = root_ / "out";
   ASSERT_EQ(run(quoted(sample) + " --dq 0.5 --out " + quoted(out.string())), 0) << last_.err;
   const std::string json = slurp(out / "q1.json");
+  // At q1 all 48 contacts are on the cone (the 24 weak ones with F_N ~ 6e-9): the lattice's
+  // mechanism. (32 before the step floor settled floppy rotations: the run stopped 6e-7 earlier
+  // on "predictor: singular", docs/validation.md.)
   for (const char* field :
-       {"\"q1\":", "\"q1_bracket\":", "\"criterion\": \"existence\"", "\"n_sliding_at_q1\": 32",
+       {"\"q1\":", "\"q1_bracket\":", "\"criterion\": \"existence\"", "\"n_sliding_at_q1\": 48",
         "\"q_max_rigid\": 27.856", "\"n_disks\": 16", "\"n_contacts\": 48", "\"wall_seconds\":"})
     EXPECT_NE(json.find(field), std::string::npos) << field << "\n" << json;
   const std::string csv = slurp(out / "static_curve.csv");

@@ -126,8 +126,11 @@ void expect_same_q1(const std::string& name, double mu, double dq, double q1_tol
       EXPECT_EQ(other.curve.size(), base.curve.size()) << name << " " << label;
     }
     // The curves agree at every load both runs accepted before their first
-    // different decision.
-    EXPECT_LT(d.max_q, 1e-9) << name << " " << label;
+    // different decision, to 1e-9 relative to q1 (absolute below 1): the lattice's q is
+    // 24.55, and its last states, within 1.3e-6 of the limit point (reached since the
+    // step floor settles floppy rotations, docs/validation.md), differ by up to 5.2e-9
+    // (2e-10 relative) with the near-singular tangent there.
+    EXPECT_LT(d.max_q, 1e-9 * std::max(1.0, std::abs(base.q1))) << name << " " << label;
     EXPECT_LT(d.max_strain, 1e-9) << name << " " << label;
   }
 }
@@ -153,7 +156,8 @@ TEST(RoundOff, PeriodicSampleAtMu05SameQ1WithOtherOrderings) {
   expect_same_q1("periodic-n100-k1e4.granstab", 0.5, 1e-3, 2e-7, true);
 }
 
-// The 16-disk lattice (q1 = 24.55 at dq = 0.2): the same path, q1 within its bracket.
+// The 16-disk lattice (q1 = 24.55 at dq = 0.2): the same loads, q1 within its bracket (the
+// relabelled run takes one floor step more, 1.9e-7 higher).
 TEST(RoundOff, TinyLatticeSameQ1WithOtherOrderings) {
   expect_same_q1("tiny-triangular-periodic.granstab", 0.0, 0.2, 2e-7);
 }
