@@ -22,6 +22,7 @@ void add_all_commands(CLI::App& app) {
   add_probe_command(app);
   add_plot_command(app);
   add_resume_command(app);
+  add_study_command(app);
 }
 
 void run_command_line(const std::vector<std::string>& args, std::string* help) {

@@ -19,5 +19,6 @@ void add_compare_command(CLI::App& app);
 void add_probe_command(CLI::App& app);
 void add_plot_command(CLI::App& app);
 void add_resume_command(CLI::App& app);
+void add_study_command(CLI::App& app);
 
 }  // namespace granstab::cli

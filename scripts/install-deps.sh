@@ -4,7 +4,8 @@ set -euo pipefail
 packages=(g++ cmake make ninja-build pkg-config libeigen3-dev libsuitesparse-dev coinor-libipopt-dev
   libspectra-dev libcli11-dev libtomlplusplus-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-munkres
-  python3-dev pybind11-dev python3-numpy python3-pytest)  # the Python module and its tests
+  python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module and its tests
+  libopenmpi-dev openmpi-bin)  # granstab study under mpirun
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

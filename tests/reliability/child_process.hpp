@@ -80,6 +80,17 @@ class Child {
     }
   }
 
+  // Sends `signal` if the child is still running; false if it had exited.
+  bool signal_if_running(int signal) {
+    int status = 0;
+    if (reaped_ || ::waitpid(pid_, &status, WNOHANG) == pid_) {
+      if (!reaped_) status_ = status;
+      reaped_ = true;
+      return false;
+    }
+    return ::kill(pid_, signal) == 0;
+  }
+
   // Exit code, or 128 + signal when killed by a signal.
   int wait() {
     if (!reaped_) {
