@@ -12,8 +12,11 @@
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "common/atomic_file.hpp"
 #include "commands.hpp"
@@ -36,6 +39,7 @@ struct StudyOptions {
   int threads = 1;
   bool report = false, report_only = false, quiet = false;
   std::string python = "/usr/bin/python3";
+  std::vector<std::string> only;  // KEY=V1,V2
 };
 
 int run_python(const std::vector<std::string>& args) {
@@ -117,6 +121,17 @@ void run_study(const StudyOptions& o) {
     r.executable = fs::read_symlink("/proc/self/exe");
     r.threads_per_job = o.threads;
     r.quiet = o.quiet;
+    std::vector<std::pair<std::string, std::vector<std::string>>> only;
+    for (const std::string& item : o.only) {
+      const auto eq = item.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == item.size())
+        throw std::invalid_argument("--only " + item + ": expected KEY=VALUE[,VALUE...]");
+      std::vector<std::string> values;
+      std::stringstream list(item.substr(eq + 1));
+      for (std::string v; std::getline(list, v, ',');) values.push_back(v);
+      only.emplace_back(item.substr(0, eq), values);
+    }
+    if (!only.empty()) r.selected = study::select_points(plan, only);
     const study::RunSummary s = study::run_plan(plan, r);
     if (!o.quiet || s.failed > 0)
       std::fprintf(stderr,
@@ -153,6 +168,9 @@ void add_study_command(CLI::App& app) {
   cmd->add_flag("--report-only", o->report_only, "only the report, of the tasks done so far");
   cmd->add_option("--python", o->python, "Python with numpy and matplotlib, for --report")
       ->capture_default_str();
+  cmd->add_option("--only", o->only,
+                  "run only the points with these values, KEY=V1,V2 (repeatable; the report "
+                  "covers every finished task)");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   cmd->callback([o] { run_study(*o); });
 }

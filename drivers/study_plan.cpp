@@ -122,6 +122,13 @@ std::vector<std::string> string_array(const Reader& r, const toml::node& n,
   return out;
 }
 
+// Every key of `earlier` is a key of `step`: one task of `earlier` per task of `step`.
+bool refines(const Step& step, const Step& earlier) {
+  return std::all_of(earlier.vary.begin(), earlier.vary.end(), [&](const std::string& g) {
+    return std::find(step.vary.begin(), step.vary.end(), g) != step.vary.end();
+  });
+}
+
 }  // namespace
 
 Plan read_plan(const fs::path& file_in) {
@@ -265,12 +272,11 @@ Plan read_plan(const fs::path& file_in) {
       return grid_index(a) < grid_index(b);
     });
     if (!plan.steps.empty())
-      for (const std::string& g : plan.steps.back().vary)
+      for (const std::string& g : plan.steps.front().vary)
         if (std::find(step.vary.begin(), step.vary.end(), g) == step.vary.end())
           r.fail(t, prefix + ".vary",
-                 "must include " + g +
-                     ", a key of the step before (each step refines the one "
-                     "before it)");
+                 "must include " + g + ", a key of the first step (every task follows one " +
+                     plan.steps.front().command + " task)");
     plan.steps.push_back(std::move(step));
   }
 
@@ -312,15 +318,24 @@ Plan read_plan(const fs::path& file_in) {
         task.step = s;
         task.value = value;
         task.directory = plan.out / step.name / (dir_name.empty() ? "all" : dir_name);
+        // It runs after the latest earlier step that it refines (whose keys it all has): the
+        // pipeline's order, except that a step on fewer keys (a sibling) is not waited for.
         if (s > 0) {
-          const std::size_t before = point.tasks.back();
+          std::size_t before = 0;
+          for (std::size_t e = s; e-- > 0;)
+            if (refines(step, plan.steps[e])) {
+              before = point.tasks[e];
+              break;
+            }
           task.depends.push_back(before);
           task.root = plan.tasks[before].root;
         } else {
           task.root = plan.tasks.size();
         }
+        // {STEP}: the directories of the earlier steps it refines (one task each).
         for (std::size_t e = 0; e < s; ++e)
-          vars[plan.steps[e].name] = plan.tasks[point.tasks[e]].directory.string();
+          if (refines(step, plan.steps[e]))
+            vars[plan.steps[e].name] = plan.tasks[point.tasks[e]].directory.string();
         const toml::table* t = step_tables[s];
         auto unknown = [&](const std::string& key) {
           return [&, key](const std::string& name) {
@@ -328,7 +343,8 @@ Plan read_plan(const fs::path& file_in) {
             r.fail(t, prefix + "." + key,
                    "{" + name + "}: " +
                        (is_grid ? "a grid key not in this step's vary"
-                                : "neither a grid key nor an earlier step nor study_dir"));
+                                : "neither a grid key nor an earlier step whose keys this step "
+                                  "has nor study_dir"));
           };
         };
         task.argv.push_back(step.command);

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -86,6 +87,36 @@ enum class State { pending, running, done, failed, blocked, other_rank };
 
 }  // namespace
 
+std::vector<bool> select_points(
+    const Plan& plan, const std::vector<std::pair<std::string, std::vector<std::string>>>& only) {
+  std::vector<std::vector<bool>> allowed;  // per grid key, per value
+  for (const GridKey& g : plan.grid) allowed.emplace_back(g.values.size(), true);
+  for (const auto& [key, values] : only) {
+    std::size_t k = 0;
+    while (k < plan.grid.size() && plan.grid[k].name != key) ++k;
+    if (k == plan.grid.size())
+      throw std::invalid_argument("--only " + key + ": not a key of [grid] in " +
+                                  plan.file.string());
+    std::vector<bool> mask(plan.grid[k].values.size(), false);
+    for (const std::string& v : values) {
+      const auto& all = plan.grid[k].values;
+      const auto it = std::find(all.begin(), all.end(), v);
+      if (it == all.end())
+        throw std::invalid_argument("--only " + key + "=" + v + ": not a value of grid." + key);
+      mask[static_cast<std::size_t>(it - all.begin())] = true;
+    }
+    allowed[k] = mask;
+  }
+  std::vector<bool> selected(plan.tasks.size(), false);
+  for (const Point& p : plan.points) {
+    bool in = true;
+    for (std::size_t k = 0; k < plan.grid.size(); ++k) in = in && allowed[k][p.value[k]];
+    if (in)
+      for (const std::size_t t : p.tasks) selected[t] = true;
+  }
+  return selected;
+}
+
 RunSummary run_plan(const Plan& plan, const RunOptions& o) {
   RunSummary summary;
   const std::size_t n = plan.tasks.size();
@@ -97,7 +128,8 @@ RunSummary run_plan(const Plan& plan, const RunOptions& o) {
   for (std::size_t t = 0; t < n; ++t) {
     const Task& task = plan.tasks[t];
     if (root_ordinal.at(task.root) % static_cast<std::size_t>(o.ranks) !=
-        static_cast<std::size_t>(o.rank)) {
+            static_cast<std::size_t>(o.rank) ||
+        (!o.selected.empty() && !o.selected[t])) {
       state[t] = State::other_rank;
       continue;
     }

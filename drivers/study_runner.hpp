@@ -7,6 +7,9 @@
 // trees of tasks (a root and everything that depends on it) dealt to it round robin.
 #include <cstddef>
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "study_plan.hpp"
 
@@ -18,7 +21,13 @@ struct RunOptions {
   std::filesystem::path executable;  // the granstab binary the children run
   int threads_per_job = 1;           // OMP_NUM_THREADS of each child
   bool quiet = false;                // no progress lines
+  std::vector<bool> selected;        // per task; empty: all (select_points)
 };
+
+// The tasks of the points whose value of each key in `only` is one of the listed values ("n" ->
+// {"1024"}); an unknown key or value throws std::invalid_argument naming it.
+std::vector<bool> select_points(
+    const Plan& plan, const std::vector<std::pair<std::string, std::vector<std::string>>>& only);
 
 struct RunSummary {
   std::size_t tasks = 0;        // of this rank

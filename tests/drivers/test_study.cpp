@@ -16,6 +16,7 @@
 #include "../reliability/child_process.hpp"
 #include "run_granstab.hpp"
 #include "study_plan.hpp"
+#include "study_runner.hpp"
 
 namespace fs = std::filesystem;
 using granstab::testing::slurp;
@@ -121,7 +122,7 @@ TEST(StudyPlan, BadFilesAreRefusedWithTheKeyNamed) {
          "step[1].set: output.sample is set by the study");
   expect(with("\"--quiet\"]", "\"--out\", \"x\"]"), "step[2].arguments: --out is set");
   expect(with("command = \"q1\"", "command = \"q1\"\nvary = [\"n\"]"),
-         "step[2].vary: must include seed");
+         "step[2].vary: must include seed, a key of the first step");
   expect(with("command = \"q1\"", "command = \"q1\"\nvary = [\"m\"]"),
          "step[2].vary: m is not a key of [grid]");
   expect(with("command = \"q1\"", "command = \"q1\"\nrepeat = 2"), "step[2].repeat: unknown key");
@@ -199,4 +200,46 @@ TEST(Study, AFailedTaskBlocksItsPointOnlyAndExitsNonZero) {
   EXPECT_TRUE(fs::exists(dir / "out/prepare/n-60_seed-2/.done"));
   EXPECT_TRUE(fs::exists(dir / "out/q1/n-60_seed-2/.failed"));
   EXPECT_NE(slurp(dir / "out/q1/n-60_seed-2/stderr.log").find("--mu"), std::string::npos);
+}
+
+TEST(StudyPlan, ASiblingStepWaitsOnlyForTheStepItRefines) {
+  Workdir dir("study-sibling");
+  std::string text = two_by_two;
+  text.replace(text.find("seed = [1, 2]"), 13, "seed = [1, 2]\nmu = [0.25, 0.5]");
+  text.replace(text.find("\"--mu\", \"0.5\""), 13, "\"--mu\", \"{mu}\"");
+  text.replace(text.find("settings ="), 0, "vary = [\"n\", \"seed\"]\n");
+  text += R"(
+[[step]]
+command = "q1"
+name = "q1_fixed"
+vary = ["n", "seed"]
+arguments = ["{prepare}/sample.granstab", "--mu", "0.3"]
+)";
+  const auto plan = granstab::study::read_plan(write_study(dir, text));
+  ASSERT_EQ(plan.tasks.size(), 4u + 8u + 4u);
+  const auto& point = plan.points[1];
+  const auto& fixed = plan.tasks[point.tasks[2]];
+  EXPECT_EQ(fixed.depends, std::vector<std::size_t>{point.tasks[0]});  // not the mu q1
+  EXPECT_EQ(fixed.directory, dir.path() / "out" / "q1_fixed" / "n-40_seed-1");
+  const std::string fixed_arguments = "\"{prepare}/sample.granstab\", \"--mu\", \"0.3\"";
+  text.replace(text.find(fixed_arguments), fixed_arguments.size(), "\"{q1}/q1.json\"");
+  const std::string error = error_of(dir, text);
+  EXPECT_NE(error.find("step[3].arguments: {q1}: neither a grid key nor an earlier step whose"),
+            std::string::npos)
+      << error;
+}
+
+TEST(StudyPlan, OnlySelectsThePointsWithTheGivenValues) {
+  Workdir dir("study-only");
+  const auto plan = granstab::study::read_plan(write_study(dir, two_by_two));
+  const auto selected = granstab::study::select_points(plan, {{"n", {"60"}}, {"seed", {"1", "2"}}});
+  std::size_t n = 0;
+  for (std::size_t t = 0; t < plan.tasks.size(); ++t)
+    if (selected[t]) {
+      ++n;
+      EXPECT_NE(plan.tasks[t].directory.string().find("n-60"), std::string::npos);
+    }
+  EXPECT_EQ(n, 4u);
+  EXPECT_THROW(granstab::study::select_points(plan, {{"m", {"1"}}}), std::invalid_argument);
+  EXPECT_THROW(granstab::study::select_points(plan, {{"n", {"50"}}}), std::invalid_argument);
 }
