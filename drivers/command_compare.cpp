@@ -155,8 +155,7 @@ void add_options(CLI::App& cmd, CompareCommandOptions& o) {
   cmd.add_option("--probe-draws", o.run.probe.draws, "perturbation draws of the probe")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd.add_flag("!--no-hill", o.run.statics.hill,
-               "skip the Hill indicator of the static states (faster)");
+  add_hill_option(cmd, o.run.statics.hill_every);
   cmd.add_option("--set", o.overrides,
                  "key=value: the dynamic half's engine.dt_fraction, engine.skin, checkpoint.path "
                  "(default OUT/compare.checkpoint), checkpoint.every_steps, "

@@ -44,7 +44,7 @@ void run_probe(ProbeCommandOptions o) {
   o.run.statics.on_progress =
       static_progress("probe (static run)", !o.start.quiet, o.run.q_max, "--q-max");
   o.run.rigid_limit = false;
-  o.run.statics.hill = false;  // logged only: the path does not depend on it (checked)
+  o.run.statics.hill_every = 0;  // logged only: the path does not depend on it (checked)
   o.probe_options.equilibration = o.run.equilibration;
   // The whole static run once: q1, the compliance of the bound at every state, and the states at
   // the loads asked for.

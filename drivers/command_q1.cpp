@@ -135,9 +135,7 @@ void add_q1_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--stop", options->q1.load_stop,
                   "stop once the load parameter (q, or epsilon_2) passes this value");
-  cmd->add_flag("!--no-hill", options->q1.hill,
-                "skip the Hill indicator (smallest eigenvalue "
-                "of the symmetric part) at every state");
+  add_hill_option(*cmd, options->q1.hill_every);
   add_static_start_options(*cmd, options->start, true);
   cmd->callback([options] { run_q1(*options); });
 }

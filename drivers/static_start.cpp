@@ -131,3 +131,36 @@ std::string static_start_json(const StaticStart& start, const std::string& inden
 }
 
 }  // namespace granstab::cli
+
+namespace granstab::cli {
+
+void add_hill_option(CLI::App& cmd, std::size_t& hill_every) {
+  cmd.add_option_function<std::string>(
+         "--hill",
+         [&hill_every](const std::string& v) {
+           if (v == "every") {
+             hill_every = 1;
+           } else if (v == "off") {
+             hill_every = 0;
+           } else {
+             std::size_t used = 0;
+             long long n = -1;
+             try {
+               n = std::stoll(v, &used);
+             } catch (const std::exception&) {
+             }
+             if (used != v.size() || n < 1)
+               throw CLI::ValidationError("--hill",
+                                          v + ": expected every, off or a positive stride");
+             hill_every = static_cast<std::size_t>(n);
+           }
+         },
+         "Hill indicator (smallest eigenvalue of the symmetric part) in the curve: every state, "
+         "every N-th state, or off (default: every " +
+             std::to_string(hill_every) + "th; an indicator only, the path does not depend on it)")
+      ->type_name("every|N|off");
+  cmd.add_flag_callback(
+      "--no-hill", [&hill_every] { hill_every = 0; }, "the same as --hill off");
+}
+
+}  // namespace granstab::cli

@@ -2,6 +2,7 @@
 // The start of every static run (q1, compare, probe; issue #19): the sample read, its biaxial
 // material set (--mu, --kt-ratio, --set material.KEY=VALUE), validated (common/start_state.hpp)
 // and, with --polish, moved to equilibrium first; and the progress lines of the stepping.
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <string>
@@ -26,6 +27,10 @@ struct StaticStartOptions {
 
   MaterialOverrides overrides() const;
 };
+
+// --hill every|N|off and its alias --no-hill (= off): the stride of the Hill indicator in the
+// static curve (Q1Options::hill_every), shared by q1 and compare.
+void add_hill_option(CLI::App& cmd, std::size_t& hill_every);
 
 // --mu, --kt-ratio, --clip-to-cone, --polish, --quiet; and --set material.KEY=VALUE when
 // `with_set` (compare shares its --set with the dynamic settings: it passes the material.* ones

@@ -16,9 +16,13 @@ struct HillResult {
   Eigen::VectorXd mode;  // unit eigenvector
 };
 
-// Dense eigensolver for small systems; otherwise shift-invert Lanczos (Spectra) with a shift below
-// the spectrum found by CHOLMOD LL^T trials, so every solve is positive definite.
-HillResult hill_indicator(const SparseMatrix& k);
+// Shift-invert Lanczos (Spectra) with a shift below the spectrum, checked by a CHOLMOD LL^T that
+// succeeds (every solve positive definite); the dense eigensolver for tiny systems or when that
+// fails. `previous` (the result at the state before, along a load path) warm-starts it: the shift
+// just below its eigenvalue and its mode as the start vector, so one factorisation and a few
+// Lanczos solves usually settle it. The eigenvalue agrees with the cold and the dense solve to the
+// Lanczos tolerance (1e-10 relative); it is a logged indicator, no decision depends on it.
+HillResult hill_indicator(const SparseMatrix& k, const HillResult* previous = nullptr);
 
 // Negative eigenvalues of the symmetric matrix s, exactly: the negative pivots of its LDL^T
 // (Sylvester's law of inertia). -1 when the factorisation meets a zero pivot.

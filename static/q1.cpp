@@ -118,14 +118,17 @@ std::string even_crossing_detail(int negative, const char* where) {
          " (an even number crossed zero within one step)";
 }
 
-double hill_of(const Network& net) {
+// The Hill indicator of the state, warm-started from the one before (`last`, updated).
+double hill_of(const Network& net, HillResult& last) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
   const std::vector<ContactStatus> statuses = classify_contacts(states);
   const SparseMatrix k = assemble_tangent(net, states, statuses);
   const Reduction r = make_reduction(kept_dofs(net, states, statuses));
-  const HillResult h = hill_indicator(reduce(k, r));
-  return h.ok ? h.min_eigenvalue : std::numeric_limits<double>::quiet_NaN();
+  HillResult h = hill_indicator(reduce(k, r), &last);
+  const double value = h.ok ? h.min_eigenvalue : std::numeric_limits<double>::quiet_NaN();
+  last = std::move(h);
+  return value;
 }
 
 // Inverse iteration with the LU factor of K on the kept dofs: converges to the eigenvector of the
@@ -203,7 +206,12 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   int negative = negative_real_eigenvalues(net, check, options.count_negative_eigenvalues);
   point.determinant_sign = check.determinant_sign;
   point.negative_eigenvalues = negative;
-  if (options.hill) point.hill = hill_of(net);
+  HillResult hill_last;
+  // Logged at the start and at every hill_every-th accepted state after it.
+  auto hill_due = [&] {
+    return options.hill_every > 0 && result.curve.size() % options.hill_every == 0;
+  };
+  if (hill_due()) point.hill = hill_of(net, hill_last);
   result.curve.push_back(point);
   Criterion failure = Criterion::none;
   std::string detail;
@@ -276,7 +284,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       p.negative_eigenvalues = negative;
       p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
       p.new_contacts = s.new_contacts;
-      if (options.hill) p.hill = hill_of(net);
+      if (hill_due()) p.hill = hill_of(net, hill_last);
       result.curve.push_back(p);
       if (options.on_accepted) options.on_accepted(lambda, net);
       last_check = check;

@@ -41,7 +41,9 @@ struct Q1Options {
   Control control = Control::stress;
   int max_steps = 1000000;
   double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
-  bool hill = true;  // log the Hill indicator at every accepted state
+  // Log the Hill indicator at the start and at every hill_every-th accepted state (0: never). It
+  // is an indicator only: no decision depends on it, so the path is the same at any stride.
+  std::size_t hill_every = 10;
   // Criterion (b) also fires when K(active set) has real negative eigenvalues with det K > 0 (an
   // even number crossed zero within one step): one LDL^T of (K + K^T)/2 per state, plus a few
   // shift-invert Arnoldi solves with the state's LU when that is indefinite.

@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
   statics::negative_eigenvalue_statistics() = {};
   if (q1) {
     statics::Q1Options o;
-    o.hill = false;
+    o.hill_every = 0;
     // The user's step (`granstab q1 --dq`); 1e-3 otherwise, as in every figure of bench/README.md.
     if (const char* dq = std::getenv("GRANSTAB_Q1_DQ")) o.dq = std::atof(dq);
     if (fixed || status_pattern) o.solver.fixed_pattern = fixed;

@@ -63,13 +63,16 @@ def q1(sample, *, out=None, dq=1e-3, progress=None, quiet=True, **options):
     """Static stepping to the loss of stability (``granstab q1``).
 
     Options as on the command line, e.g. ``mu=0.25``, ``kt_ratio=0.5``, ``dq_min=1e-7``,
-    ``control="strain"``, ``max_steps=100``, ``stop=0.5``, ``hill=False``, ``polish=True``,
+    ``control="strain"``, ``max_steps=100``, ``stop=0.5``, ``hill="every"`` (or a stride, or
+    False), ``polish=True``,
     ``clip_to_cone=True``, ``set=["material.zeta=0.5"]``. Returns a Q1Result; the files are in
     ``out`` (a new temporary directory when not given)."""
     out = _out_dir(out, "q1")
-    hill = options.pop("hill", True)
+    hill = options.pop("hill", None)  # None: the default stride; False: off; "every" or N
     args = ["q1", os.fspath(sample), "--dq", repr(float(dq)), "--out", os.fspath(out)]
-    args += _options(quiet=quiet, no_hill=not hill, **options)
+    if hill is not None and hill is not True:
+        args += ["--hill", "off" if hill is False else str(hill)]
+    args += _options(quiet=quiet, **options)
     run(args, progress)
     return Q1Result(out)
 

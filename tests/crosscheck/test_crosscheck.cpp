@@ -116,7 +116,7 @@ CrosscheckOptions options(double tolerance) {
   o.dq = 1e-2;
   o.q_max = 0.01;
   o.mu = 0.5;
-  o.statics.hill = false;
+  o.statics.hill_every = 0;
   o.rigid_limit = false;
   o.equilibration.tolerances = {tolerance, tolerance, tolerance};
   return o;
@@ -166,7 +166,7 @@ TEST(StaticVsDynamic, StressStepOvershootIsRemovedByDynamicSubsteps) {
   o.dq = 1e-2;
   o.q_max = 0.05;
   o.mu = 0.15;
-  o.statics.hill = false;
+  o.statics.hill_every = 0;
   o.rigid_limit = false;
   const CrosscheckResult steps = run_crosscheck(sample, o);
   o.dynamic_substeps = 100;
@@ -189,7 +189,7 @@ TEST(ModeFile, MarksTheDisksThatCarryTheMode) {
   Configuration c = biaxial_start(read_configuration(sample_path), 0.15);
   statics::Q1Options o;
   o.dq = 1e-2;
-  o.hill = false;
+  o.hill_every = 0;
   const statics::StabilityResult r = statics::find_q1(c, o);
   ASSERT_NE(r.criterion, statics::Criterion::none);
   const std::string csv = mode_csv(r);

@@ -27,7 +27,7 @@ CrosscheckOptions options() {
   CrosscheckOptions o;
   o.dq = 1e-2;
   o.mu = 0.5;
-  o.statics.hill = false;
+  o.statics.hill_every = 0;
   o.rigid_limit = false;
   return o;
 }
@@ -186,7 +186,7 @@ double state_difference(const StaticState& a, const statics::StabilityResult& re
 TEST(StaticStatesOfOneRun, AreTheStatesTheReRunToEachLoadEndsAt) {
   const Configuration sample = read_configuration(sample_path);
   CrosscheckOptions o = options();
-  o.statics.hill = true;
+  o.statics.hill_every = 1;
   o.q_max = 0.25;
   o.probe.states = 4;
   const double tolerance = static_load_tolerance(o);

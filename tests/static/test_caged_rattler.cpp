@@ -52,7 +52,7 @@ TEST(CagedRattler, TheCageClosingOnARattlerPushesIt) {
   config.contacts = kept;
   Q1Options o;
   o.dq = 0.25;
-  o.hill = false;
+  o.hill_every = 0;
   o.load_stop = 6.0;
   o.solver.push_rattlers = true;
   const StabilityResult r = find_q1(config, o);

@@ -89,7 +89,7 @@ TEST(FloppyRotation, UnbalancedPinnedRotationIsNotAnInstability) {
   const double fx0 = net.loading.dead[0];
   Q1Options options;
   options.dq = 0.05;
-  options.hill = false;
+  options.hill_every = 0;
   options.load_stop = 0.5;
   const LoadPath push = [fx0](Network& n, double t) { n.loading.dead[0] = fx0 - t; };
   const StabilityResult r = trace_to_instability(net, 0.0, push, {10.0, 10.0}, options);
@@ -108,7 +108,7 @@ TEST(FloppyRotation, RaisedTorqueSpinsTheDisk) {
   const double torque0 = net.loading.dead[2];
   Q1Options options;
   options.dq = 0.05;
-  options.hill = false;
+  options.hill_every = 0;
   options.load_stop = 0.5;
   const LoadPath twist = [torque0](Network& n, double t) {
     n.loading.dead[2] = torque0 + std::copysign(t, torque0);

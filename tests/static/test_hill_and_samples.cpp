@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
 
 #include "common/io/configuration_file.hpp"
 #include "static/hill.hpp"
@@ -31,7 +34,7 @@ SparseMatrix shifted_laplacian(int n, double shift) {
 }
 
 TEST(HillIndicator, DenseAndLanczosPathsFindTheSmallestEigenvalue) {
-  for (int n : {50, 600}) {  // below and above the dense threshold
+  for (int n : {30, 600}) {  // below and above the dense threshold
     const double lowest = 2.0 - 2.0 * std::cos(M_PI / (n + 1));
     for (double shift : {0.0, 2.0 * lowest, 1.0}) {
       const HillResult h = hill_indicator(shifted_laplacian(n, shift));
@@ -45,6 +48,53 @@ TEST(HillIndicator, DenseAndLanczosPathsFindTheSmallestEigenvalue) {
   }
 }
 
+// Warm-started from the solution of a nearby matrix (as along a load path: the eigenvalue moved
+// up or down, the mode nearly the same), the same eigenvalue as the cold and the dense solve.
+TEST(HillIndicator, WarmStartFindsTheSameEigenvalue) {
+  const int n = 300;
+  const double lowest = 2.0 - 2.0 * std::cos(M_PI / (n + 1));
+  const HillResult before = hill_indicator(shifted_laplacian(n, 0.5 * lowest));
+  ASSERT_TRUE(before.ok);
+  for (double shift : {0.0, 0.49 * lowest, 0.51 * lowest, 3.0 * lowest, 0.2}) {
+    const SparseMatrix k = shifted_laplacian(n, shift);
+    const HillResult warm = hill_indicator(k, &before), cold = hill_indicator(k);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(
+        Eigen::MatrixXd(0.5 * (k + SparseMatrix(k.transpose()))), Eigen::EigenvaluesOnly);
+    ASSERT_TRUE(warm.ok && cold.ok) << shift;
+    EXPECT_NEAR(warm.min_eigenvalue, dense.eigenvalues()[0], 1e-9) << shift;
+    EXPECT_NEAR(cold.min_eigenvalue, dense.eigenvalues()[0], 1e-9) << shift;
+  }
+}
+
+// The Hill indicator is logged only: its stride changes no other column of the curve.
+TEST(HillIndicator, ItsStrideLeavesThePathUnchanged) {
+  const Configuration config = read_configuration(std::filesystem::path(GRANSTAB_SAMPLES_DIR) /
+                                                  "periodic-n100-k1e4.granstab");
+  std::vector<StabilityResult> runs;
+  for (std::size_t every : {0, 1, 3}) {
+    Q1Options o;
+    o.load_stop = 0.1;
+    o.hill_every = every;
+    runs.push_back(find_q1(config, o));
+  }
+  ASSERT_EQ(runs[0].curve.size(), runs[1].curve.size());
+  ASSERT_EQ(runs[0].curve.size(), runs[2].curve.size());
+  for (std::size_t k = 0; k < runs[0].curve.size(); ++k) {
+    for (const auto& r : {runs[1], runs[2]}) {
+      EXPECT_EQ(r.curve[k].q, runs[0].curve[k].q);
+      EXPECT_EQ(r.curve[k].eps2, runs[0].curve[k].eps2);
+      EXPECT_EQ(r.curve[k].n_sliding, runs[0].curve[k].n_sliding);
+    }
+    EXPECT_TRUE(std::isnan(runs[0].curve[k].hill));
+    EXPECT_TRUE(std::isfinite(runs[1].curve[k].hill));
+    EXPECT_EQ(std::isfinite(runs[2].curve[k].hill), k % 3 == 0) << k;
+    if (k % 3 == 0) {
+      EXPECT_NEAR(runs[2].curve[k].hill, runs[1].curve[k].hill,
+                  1e-9 * std::abs(runs[1].curve[k].hill));
+    }
+  }
+}
+
 const std::filesystem::path samples = std::filesystem::path(GRANSTAB_SAMPLES_DIR);
 
 void expect_q1_below_rigid_limit(const std::string& name, double dq) {
@@ -52,7 +102,7 @@ void expect_q1_below_rigid_limit(const std::string& name, double dq) {
   Q1Options o;
   o.dq = dq;
   o.dq_min = 1e-6;
-  o.hill = false;
+  o.hill_every = 0;
   const StabilityResult r = find_q1(config, o);
   const RigidLimitResult rigid = rigid_limit(config);
   ASSERT_TRUE(rigid.solved) << rigid.status;

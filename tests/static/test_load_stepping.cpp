@@ -58,7 +58,7 @@ StabilityResult lattice_run(double kappa, Control control, double step, double s
   Q1Options o;
   o.dq = step;
   o.dq_min = 1e-6;
-  o.hill = false;
+  o.hill_every = 0;
   o.control = control;
   o.load_stop = stop;
   return find_q1(testing::configuration_from_network(net), o);
@@ -111,6 +111,7 @@ TEST(KappaScaling, LatticeHardensBySlidingUpToTheRigidLimit) {
     Q1Options o;
     o.dq = 0.1;
     o.dq_min = 1e-6;
+    o.hill_every = 1;  // the Hill indicator is checked at every state below
     const StabilityResult r = find_q1(testing::configuration_from_network(net), o);
     EXPECT_EQ(r.criterion, Criterion::existence) << r.detail;
     double first_sliding = NAN;

@@ -64,7 +64,7 @@ StabilityResult run(const Configuration& config, double mu, double dq, const Var
   if (mu > 0.0) c.material.mu = mu;
   Q1Options o;
   o.dq = dq;
-  o.hill = false;
+  o.hill_every = 0;
   o.solver.fixed_pattern = v.fixed_pattern;
   return find_q1(c, o);
 }

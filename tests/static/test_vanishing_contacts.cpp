@@ -52,7 +52,7 @@ TEST(VanishingContacts, NewRattlerInsideAStepIsNotAnInstability) {
   c.stage.reference_length = c.cell.length;
   Q1Options o;
   o.dq = 1e-2;
-  o.hill = false;
+  o.hill_every = 0;
   o.load_stop = 0.35;
   const StabilityResult r = find_q1(c, o);
   EXPECT_EQ(r.criterion, Criterion::none) << r.q1 << " " << r.detail;
