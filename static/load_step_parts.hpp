@@ -1,0 +1,46 @@
+#pragma once
+// What the three parts of a load step share (load_step.cpp, complementarity_loop.cpp,
+// corrector.cpp): solves on the kept dofs and the chord iterations. Internal to static/.
+#include <chrono>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "static/linear_solvers.hpp"
+#include "static/load_step.hpp"
+
+namespace granstab::statics {
+
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+enum class Solve { solved, singular, pinned_out_of_balance };
+
+// Solves K x = b on the kept dofs with a factor of the reduced K (pinned dofs stay 0). With
+// check_pinned, the rows of pinned gear rotations must hold too (see kept_dofs): the predictor's
+// test of a status set. The misfit of the pinned rows is compared with the largest size of the
+// terms of a row, max_i (|K| |x| + |b|)_i, so that the round-off of K x (O(1e-16 cond(K)) of
+// that) never decides it; a genuine misfit (sliding forces doing work in a gear mode) is a
+// finite fraction of it.
+// The corrector's backtracking on |R| judges its steps itself. out_of_balance receives the disks
+// whose dropped dofs (pinned gear rotations, or all dofs of a disk whose contacts are all open)
+// carry such a misfit.
+Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
+                     const LuFactor& lu, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                     bool check_pinned, double tolerance,
+                     std::vector<int>* out_of_balance = nullptr);
+// The same after factorising the reduced K into lu (timed and counted in timings).
+Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
+                 const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
+                 bool check_pinned, double tolerance = 0.0,
+                 std::vector<int>* out_of_balance = nullptr);
+
+// Chord iterations with the predictor's factor: the tangent changes by O(step) inside a step, so
+// they usually reach the tolerance without a new factorisation. Returns the point reached; the
+// full Newton takes over from there when they stall.
+Eigen::VectorXd chord_iterations(const Network& net, const PredictorResult& p, Eigen::VectorXd dq,
+                                 const ResidualScale& scale, const SolverOptions& options);
+
+}  // namespace granstab::statics
