@@ -1,3 +1,5 @@
+// The LU factorisations of the tangent (UMFPACK): symbolic analyses reused per sparsity pattern,
+// low-rank (Woodbury) updates of a recent factorisation, solves deferred to GMRES (gmres.cpp).
 #include "static/linear_solvers.hpp"
 
 #include <algorithm>
@@ -11,59 +13,13 @@
 #include <malloc.h>
 #endif
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
 #include <umfpack.h>
 
+#include "static/numeric_lu.hpp"
+
 namespace granstab::statics {
-
-struct SymmetricFactor::Impl {
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
-  SparsityPattern analysed;  // the pattern analysed last
-};
-
-SymmetricFactor::SymmetricFactor() : impl_(std::make_unique<Impl>()) {
-  impl_->llt.cholmod().print = 0;  // CHOLMOD writes warnings to stdout otherwise (DEPS.md #3)
-}
-SymmetricFactor::~SymmetricFactor() = default;
-
-bool SymmetricFactor::factorize(const SparseMatrix& k) {
-  Impl& m = *impl_;
-  SparseMatrix kc = k;
-  kc.makeCompressed();
-  if (!m.analysed.same_as(kc)) {
-    m.llt.analyzePattern(kc);
-    m.analysed.assign(kc);
-  }
-  m.llt.factorize(kc);
-  // NumericalIssue is CHOLMOD_NOT_POSDEF: the factor is unusable (DEPS.md #2).
-  return impl_->llt.info() == Eigen::Success;
-}
-
-Eigen::VectorXd SymmetricFactor::solve(const Eigen::VectorXd& b) const {
-  return impl_->llt.solve(b);
-}
-
-Eigen::MatrixXd SymmetricFactor::solve_columns(const Eigen::MatrixXd& b) const {
-  return impl_->llt.solve(b);
-}
-
 namespace {
-
-double thread_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-void umfpack_control(double* control) {
-  umfpack_di_defaults(control);
-  control[UMFPACK_PRL] = 0;
-  // Allocate the estimated peak of the numeric factorisation at once (default: 70 % of it): the
-  // reallocations and copies as the factors grow took ~19 % of a q1 run at N = 1400 (perf). The
-  // arithmetic is the same, hence the same bits (bench/README.md, "Static solver").
-  control[UMFPACK_ALLOC_INIT] = 1.0;
-}
 
 // Symbolic analyses (orderings) of the last few sparsity patterns factorised in this thread: a load
 // step refactorises the same pattern many times (status iterations, Newton, the stability check).
@@ -117,41 +73,6 @@ SymbolicCache& symbolic_cache() {
   thread_local SymbolicCache cache;
   return cache;
 }
-
-// One UMFPACK numeric factorisation with the matrix it factorised (its solves refine against it).
-struct NumericLu {
-  SparseMatrix k;  // compressed: UMFPACK keeps pointers to it between calls
-  void* numeric = nullptr;
-  int sign = 0;
-  double log10_det = -INFINITY;
-  NumericLu() = default;
-  NumericLu(const NumericLu&) = delete;
-  NumericLu& operator=(const NumericLu&) = delete;
-  ~NumericLu() {
-    if (numeric) umfpack_di_free_numeric(&numeric);
-  }
-  // sys: UMFPACK_A or UMFPACK_At. refine: UMFPACK's own iterative refinement (up to 2 steps);
-  // the low-rank updates refine against their own matrix instead.
-  Eigen::VectorXd solve(int sys, const Eigen::VectorXd& b, bool refine = true) const {
-    if (!numeric) throw std::logic_error("LuFactor::solve without a successful factorisation");
-    Eigen::VectorXd x(b.size());
-    double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
-    umfpack_control(control);
-    if (!refine) control[UMFPACK_IRSTEP] = 0;
-    LuStatistics& statistics = lu_statistics();
-    const double t0 = refine ? thread_seconds() : 0.0;
-    const int status = umfpack_di_solve(sys, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(),
-                                        x.data(), b.data(), numeric, control, info);
-    if (refine) {
-      ++statistics.solves;
-      statistics.solve_seconds += thread_seconds() - t0;
-    } else {
-      ++statistics.unrefined_solves;
-    }
-    if (status != UMFPACK_OK) throw std::runtime_error("UMFPACK solve failed");
-    return x;
-  }
-};
 
 // Factorises k (compressed) with UMFPACK; false when singular or failed. reused: the symbolic
 // analysis came from the cache.
@@ -288,102 +209,6 @@ struct LuFactor::Impl {
   bool deferred = false;
   bool singular = false;  // the deferred factorisation found k singular
 };
-
-namespace {
-
-// |K| |x| (transposed: |K|^T |x|) without a copy of |K| (a copy per GMRES solve cost ~1 % of a q1
-// run at N = 1400, perf): the sums of Eigen's sparse products, in their order.
-Eigen::VectorXd abs_product(const SparseMatrix& k, const Eigen::VectorXd& x, bool transposed) {
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(transposed ? k.cols() : k.rows());
-  for (Eigen::Index j = 0; j < k.outerSize(); ++j) {
-    if (transposed) {
-      double sum = 0.0;
-      for (SparseMatrix::InnerIterator it(k, j); it; ++it)
-        sum += std::abs(it.value()) * std::abs(x[it.index()]);
-      y[j] += sum;
-    } else {
-      const double xj = std::abs(x[j]);
-      for (SparseMatrix::InnerIterator it(k, j); it; ++it)
-        y[it.index()] += std::abs(it.value()) * xj;
-    }
-  }
-  return y;
-}
-
-// Right-preconditioned GMRES on K x = b (transposed: K^T x = b), M^-1 the unrefined solve with
-// the factors of another matrix, restarted when the recurrence's residual drifts from the true
-// one. Converged: |b - K x| <= tolerance | |K| |x| + |b| | (a normwise backward error, as
-// UMFPACK's refinement judges its solves componentwise), checked on the true residual. False
-// after max_iterations preconditioner solves; iterations counts them.
-bool gmres(const SparseMatrix& k, const NumericLu& m, const Eigen::VectorXd& b, bool transposed,
-           double tolerance, int max_iterations, Eigen::VectorXd& x, int& iterations) {
-  const int sys = transposed ? UMFPACK_At : UMFPACK_A;
-  const auto apply = [&](const SparseMatrix& a, const Eigen::VectorXd& v) {
-    return transposed ? Eigen::VectorXd(a.transpose() * v) : Eigen::VectorXd(a * v);
-  };
-  const Eigen::Index n = b.size();
-  x = m.solve(sys, b, false);
-  iterations = 1;
-  Eigen::MatrixXd v(n, max_iterations + 1);
-  Eigen::MatrixXd h(max_iterations + 1, max_iterations);
-  Eigen::VectorXd g(max_iterations + 1), cs(max_iterations), sn(max_iterations);
-  while (true) {
-    const Eigen::VectorXd r = b - apply(k, x);
-    const double target = tolerance * (abs_product(k, x, transposed) + b.cwiseAbs()).norm();
-    const double beta = r.norm();
-    if (beta <= target) return true;
-    const int cycle = max_iterations - iterations;
-    if (cycle < 2) return false;
-    h.setZero();
-    g.setZero();
-    v.col(0) = r / beta;
-    g[0] = beta;
-    int j = 0;
-    for (; j < cycle - 1; ++j) {
-      Eigen::VectorXd w = apply(k, m.solve(sys, v.col(j), false));
-      ++iterations;
-      // Classical Gram-Schmidt, twice: as stable as the modified one, in matrix-vector products.
-      for (int pass = 0; pass < 2; ++pass) {
-        const Eigen::VectorXd c = v.leftCols(j + 1).transpose() * w;
-        w -= v.leftCols(j + 1) * c;
-        h.col(j).head(j + 1) += c;
-      }
-      const double next = w.norm();
-      if (next > 0.0) v.col(j + 1) = w / next;
-      h(j + 1, j) = next;
-      for (int i = 0; i < j; ++i) {  // the earlier Givens rotations
-        const double t = cs[i] * h(i, j) + sn[i] * h(i + 1, j);
-        h(i + 1, j) = -sn[i] * h(i, j) + cs[i] * h(i + 1, j);
-        h(i, j) = t;
-      }
-      const double rho = std::hypot(h(j, j), h(j + 1, j));
-      if (rho == 0.0) return false;  // K M^-1 singular on the Krylov space
-      cs[j] = h(j, j) / rho;
-      sn[j] = h(j + 1, j) / rho;
-      h(j, j) = rho;
-      h(j + 1, j) = 0.0;
-      g[j + 1] = -sn[j] * g[j];
-      g[j] = cs[j] * g[j];
-      if (std::abs(g[j + 1]) <= 0.5 * target || next == 0.0) {
-        ++j;
-        break;
-      }
-      // Give up early when the mean rate so far would take more than twice the bound: the
-      // iterations left would be wasted on a factorisation anyway.
-      if (j >= 5) {
-        const double rate = std::log(std::abs(g[j + 1]) / beta) / (j + 1);
-        if (rate >= 0.0 || std::log(0.5 * target / beta) / rate > 2.0 * max_iterations)
-          return false;
-      }
-    }
-    if (j == cycle - 1 && std::abs(g[j]) > 0.5 * target) return false;
-    const Eigen::VectorXd y = h.topLeftCorner(j, j).triangularView<Eigen::Upper>().solve(g.head(j));
-    x += m.solve(sys, v.leftCols(j) * y, false);
-    ++iterations;
-  }
-}
-
-}  // namespace
 
 namespace {
 
@@ -662,47 +487,6 @@ Eigen::VectorXd LuFactor::solve_unrefined(const Eigen::VectorXd& b) const {
   if (impl_->update) return impl_->update->apply(b, false);
   if (!impl_->full) throw std::logic_error("LuFactor::solve without a successful factorisation");
   return impl_->full->solve(UMFPACK_A, b, false);
-}
-
-Reduction make_reduction(const std::vector<char>& keep) {
-  Reduction r;
-  r.full_to_reduced.assign(keep.size(), -1);
-  for (std::size_t i = 0; i < keep.size(); ++i) {
-    if (!keep[i]) continue;
-    r.full_to_reduced[i] = static_cast<int>(r.reduced_to_full.size());
-    r.reduced_to_full.push_back(static_cast<int>(i));
-  }
-  return r;
-}
-
-SparseMatrix reduce(const SparseMatrix& k, const Reduction& r) {
-  const int n = static_cast<int>(r.reduced_to_full.size());
-  if (n == k.rows()) return k;
-  // The kept columns and, in each, the kept rows in their order: no sums, the same entries as
-  // building the submatrix from triplets, without the sort and the transposed copy.
-  SparseMatrix out(n, n);
-  out.reserve(k.nonZeros());
-  for (int rc = 0; rc < n; ++rc) {
-    out.startVec(rc);
-    for (SparseMatrix::InnerIterator it(k, r.reduced_to_full[rc]); it; ++it) {
-      const int rr = r.full_to_reduced[it.row()];
-      if (rr >= 0) out.insertBack(rr, rc) = it.value();
-    }
-  }
-  out.finalize();
-  return out;
-}
-
-Eigen::VectorXd reduce(const Eigen::VectorXd& v, const Reduction& r) {
-  Eigen::VectorXd out(r.reduced_to_full.size());
-  for (std::size_t i = 0; i < r.reduced_to_full.size(); ++i) out[i] = v[r.reduced_to_full[i]];
-  return out;
-}
-
-Eigen::VectorXd expand(const Eigen::VectorXd& v, const Reduction& r, int full_size) {
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(full_size);
-  for (std::size_t i = 0; i < r.reduced_to_full.size(); ++i) out[r.reduced_to_full[i]] = v[i];
-  return out;
 }
 
 }  // namespace granstab::statics

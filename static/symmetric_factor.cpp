@@ -1,0 +1,40 @@
+// CHOLMOD's supernodal LL^T for the symmetric positive definite systems (SymmetricFactor,
+// linear_solvers.hpp): the Hill indicator's shift-invert solves and the inertia trials.
+#include <Eigen/CholmodSupport>
+
+#include "static/linear_solvers.hpp"
+
+namespace granstab::statics {
+
+struct SymmetricFactor::Impl {
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  SparsityPattern analysed;  // the pattern analysed last
+};
+
+SymmetricFactor::SymmetricFactor() : impl_(std::make_unique<Impl>()) {
+  impl_->llt.cholmod().print = 0;  // CHOLMOD writes warnings to stdout otherwise (DEPS.md #3)
+}
+SymmetricFactor::~SymmetricFactor() = default;
+
+bool SymmetricFactor::factorize(const SparseMatrix& k) {
+  Impl& m = *impl_;
+  SparseMatrix kc = k;
+  kc.makeCompressed();
+  if (!m.analysed.same_as(kc)) {
+    m.llt.analyzePattern(kc);
+    m.analysed.assign(kc);
+  }
+  m.llt.factorize(kc);
+  // NumericalIssue is CHOLMOD_NOT_POSDEF: the factor is unusable (DEPS.md #2).
+  return impl_->llt.info() == Eigen::Success;
+}
+
+Eigen::VectorXd SymmetricFactor::solve(const Eigen::VectorXd& b) const {
+  return impl_->llt.solve(b);
+}
+
+Eigen::MatrixXd SymmetricFactor::solve_columns(const Eigen::MatrixXd& b) const {
+  return impl_->llt.solve(b);
+}
+
+}  // namespace granstab::statics
