@@ -186,8 +186,16 @@ RunSummary run_plan(const Plan& plan, const RunOptions& o) {
       fs::remove(task.directory / ".failed");
       const fs::path checkpoint = checkpoint_in(task.directory);
       std::vector<std::string> argv = task.argv;
+      // A checkpoint continues the command line that started it: refuse one of another.
+      const fs::path started = task.directory / ".started";
+      if (!checkpoint.empty() && fs::exists(started) && slurp(started) != joined(task.argv))
+        throw std::runtime_error(task.directory.string() +
+                                 ": its checkpoint is of another command line than the study file "
+                                 "now gives it (see .started); remove the directory to start over");
       if (!checkpoint.empty())
         argv = {"resume", checkpoint.lexically_relative(task.directory).string()};
+      fs::create_directories(task.directory);
+      write_file_atomically(started, joined(task.argv));
       running.emplace(start(o.executable, argv, task.directory, o.threads_per_job), t);
       state[t] = State::running;
     }

@@ -187,6 +187,13 @@ TEST(Study, KilledAndRunAgainEndsWithTheResultsOfOneRun) {
   const auto refused = killed.run("study study.toml");
   EXPECT_EQ(refused.exit_code, 1);
   EXPECT_NE(refused.err.find("done with another command line"), std::string::npos) << refused.err;
+  // Nor does a checkpoint of the old command line continue under the new one.
+  fs::remove(killed / "out/q1/n-40_seed-1/.done");
+  spit(killed / "out/q1/n-40_seed-1/q1.checkpoint", "stands for a checkpoint");
+  const auto stale = killed.run("study study.toml --only n=40 --only seed=1");
+  EXPECT_EQ(stale.exit_code, 1);
+  EXPECT_NE(stale.err.find("its checkpoint is of another command line"), std::string::npos)
+      << stale.err;
 }
 
 TEST(Study, AFailedTaskBlocksItsPointOnlyAndExitsNonZero) {
