@@ -79,7 +79,7 @@ struct LuReuse {
   int max_krylov_iterations = 24;  // about the cost of one numeric factorisation at N = 5600
   // |b - K x| <= krylov_tolerance | |K| |x| + |b| |: at 1e-14 a third of the GMRES solves at
   // N = 5600 did not get there in 24 iterations (the residual's round-off floor); the path and
-  // q1 are the same at 1e-12 and 1e-14 (bench/README.md, "Session 6").
+  // q1 are the same at 1e-12 and 1e-14 (docs/notes/2026-12-02-static-speed-measurements.md).
   double krylov_tolerance = 1e-12;
   // UMFPACK's iterative refinement in solve and solve_transpose (up to 2 steps against K, 5-8
   // unrefined solves' worth). Off, a solve is the exact inverse of the computed factors (backward

@@ -58,7 +58,7 @@ struct SolverOptions {
   // UMFPACK's iterative refinement in the solves of the load step and of the check that are made
   // with an LU of the matrix itself (LuReuse::refine; GMRES and the eigenvalue count never refine).
   // Off: the same path and q1 on the shipped samples, and the refined solves' 6-7 s of CPU in q1
-  // at N = 5600 gone (bench/README.md, "Static solver", session 7).
+  // at N = 5600 gone (measurements: docs/notes/2026-12-02-static-speed-measurements.md).
   bool refine_solves = false;
 };
 
