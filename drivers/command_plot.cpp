@@ -2,9 +2,6 @@
 // JSON files, by running scripts/plot/plot_compare.py with /usr/bin/python3 and the Agg backend
 // (DEPS.md #6: the python3 on PATH may lack matplotlib).
 #include <CLI/CLI.hpp>
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -13,8 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
-
-extern char** environ;
+#include "python_script.hpp"
 
 namespace granstab::cli {
 namespace {
@@ -24,39 +20,13 @@ struct PlotOptions {
   std::string python = "/usr/bin/python3";
 };
 
-// Runs argv[0] with the given arguments; returns its exit status (-1 if it could not start).
-int run_program(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 void run_plot(const PlotOptions& o) {
   const std::filesystem::path dir = o.dir;
   if (!std::filesystem::is_regular_file(dir / "compare.json"))
     throw std::runtime_error(dir.string() +
                              ": no compare.json (run `granstab compare SAMPLE --dq X --out DIR` "
                              "first)");
-  const std::filesystem::path script =
-      std::filesystem::path(GRANSTAB_SOURCE_DIR) / "scripts" / "plot" / "plot_compare.py";
-  if (!std::filesystem::is_regular_file(script))
-    throw std::runtime_error(script.string() + ": plotting script not found (source tree moved?)");
-  ::setenv("MPLBACKEND", "Agg", 1);
-  const int probe = run_program({o.python, "-c", "import matplotlib"});
-  if (probe < 0) throw std::runtime_error(o.python + ": cannot run this Python interpreter");
-  if (probe != 0)
-    throw std::runtime_error(o.python +
-                             " cannot import matplotlib: install it with "
-                             "`apt-get install python3-matplotlib` (scripts/install-deps.sh)");
-  const int status = run_program({o.python, script.string(), dir.string()});
-  if (status != 0)
-    throw std::runtime_error(script.string() + " failed (exit status " + std::to_string(status) +
-                             ")");
+  run_python_script(o.python, "scripts/plot/plot_compare.py", {dir.string()});
 }
 
 }  // namespace

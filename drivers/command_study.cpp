@@ -3,8 +3,6 @@
 // scripts/study/study_report.py (docs/studies.md). Under `mpirun -np K` (when built with MPI),
 // the ranks share the tasks out and rank 0 writes the report.
 #include <CLI/CLI.hpp>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -20,13 +18,12 @@
 
 #include "common/atomic_file.hpp"
 #include "commands.hpp"
+#include "python_script.hpp"
 #include "study_plan.hpp"
 #include "study_runner.hpp"
 #ifdef GRANSTAB_WITH_MPI
 #include <mpi.h>
 #endif
-
-extern char** environ;
 
 namespace granstab::cli {
 namespace {
@@ -42,26 +39,8 @@ struct StudyOptions {
   std::vector<std::string> only;  // KEY=V1,V2
 };
 
-int run_python(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 void write_report(const study::Plan& plan, const StudyOptions& o) {
-  const fs::path script = fs::path(GRANSTAB_SOURCE_DIR) / "scripts" / "study" / "study_report.py";
-  if (!fs::is_regular_file(script))
-    throw std::runtime_error(script.string() + ": report script not found (source tree moved?)");
-  ::setenv("MPLBACKEND", "Agg", 1);
-  const int status = run_python({o.python, script.string(), plan.out.string()});
-  if (status != 0)
-    throw std::runtime_error(script.string() + " failed (exit status " + std::to_string(status) +
-                             "; numpy and matplotlib: scripts/install-deps.sh)");
+  run_python_script(o.python, "scripts/study/study_report.py", {plan.out.string()});
 }
 
 // The MPI world when launched by mpirun, else rank 0 of 1. MPI is initialised only here, and only
