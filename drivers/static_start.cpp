@@ -112,7 +112,11 @@ std::function<void(const statics::StepProgress&)> static_progress(std::string la
     std::snprintf(detail, sizeof detail, "q %.6g  states %d  attempts %d  sliding %d  %.3g s/state",
                   p.load, p.states, p.attempts, p.n_sliding,
                   p.states > 0 ? elapsed / p.states : 0.0);
-    state->progress->update_estimated(p.states, left, std::isfinite(target) ? basis : "", detail);
+    if (p.finished) {
+      state->progress->finish(detail);  // a run shorter than the line interval shows a line too
+    } else {
+      state->progress->update_estimated(p.states, left, std::isfinite(target) ? basis : "", detail);
+    }
   };
 }
 

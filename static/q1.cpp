@@ -344,7 +344,8 @@ StartPolish polish_start(Network& net, const SolverOptions& options) {
   return out;
 }
 
-StabilityResult find_q1(const Configuration& config, const Q1Options& options) {
+// The static stepping of a configuration under the options' control.
+static StabilityResult trace_from(const Configuration& config, const Q1Options& options) {
   Network net = network_from_configuration(config);
   const double sigma1 = config.stage.sigma_ext[0];
   if (!(sigma1 > 0.0)) throw std::invalid_argument("stage.sigma_ext[0]: must be > 0 for q1");
@@ -365,6 +366,18 @@ StabilityResult find_q1(const Configuration& config, const Q1Options& options) {
   const double eps0 = 1.0 - config.cell.length[1] / reference[1];
   net.loading.sigma = {sigma1, config.stage.sigma_ext[1]};
   return trace_to_instability(std::move(net), eps0, path, reference, options);
+}
+
+StabilityResult find_q1(const Configuration& config, const Q1Options& options) {
+  StabilityResult r = trace_from(config, options);
+  // The end of the run for the progress lines, however it ended.
+  if (options.on_progress && !r.curve.empty()) {
+    int attempts = r.steps;
+    for (const auto& [detail, count] : r.rejected) attempts += count;
+    options.on_progress({r.curve.back().load, static_cast<int>(r.curve.size()), attempts,
+                         r.curve.back().n_sliding, 0.0, true});
+  }
+  return r;
 }
 
 }  // namespace granstab::statics

@@ -28,11 +28,12 @@ const char* criterion_name(Criterion c);
 
 // What the stepping reports after each attempt, for progress lines (drivers/static_progress.hpp).
 struct StepProgress {
-  double load = 0.0;  // the load parameter of the last accepted state
-  int states = 0;     // accepted states so far, the start included
-  int attempts = 0;   // steps tried (accepted + cut)
-  int n_sliding = 0;  // sliding contacts at the last accepted state
-  double step = 0.0;  // the current step of the load parameter
+  double load = 0.0;      // the load parameter of the last accepted state
+  int states = 0;         // accepted states so far, the start included
+  int attempts = 0;       // steps tried (accepted + cut)
+  int n_sliding = 0;      // sliding contacts at the last accepted state
+  double step = 0.0;      // the current step of the load parameter
+  bool finished = false;  // the last call, once the run has ended
 };
 
 struct Q1Options {
