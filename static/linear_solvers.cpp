@@ -1,5 +1,6 @@
 // The LU factorisations of the tangent (UMFPACK): symbolic analyses reused per sparsity pattern,
-// low-rank (Woodbury) updates of a recent factorisation, solves deferred to GMRES (gmres.cpp).
+// low-rank (Woodbury) updates of a recent factorisation (low_rank_update.cpp), solves deferred to
+// GMRES (gmres.cpp).
 #include "static/linear_solvers.hpp"
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include <Eigen/Dense>
 #include <umfpack.h>
 
+#include "static/low_rank_update.hpp"
 #include "static/numeric_lu.hpp"
 
 namespace granstab::statics {
@@ -117,37 +119,6 @@ void remember_base(std::shared_ptr<const NumericLu> lu) {
   if (bases.size() > capacity) bases.pop_back();
 }
 
-// The columns in which k and k0 (same size, compressed) differ in value; false when more than
-// limit. An entry stored in one and absent from the other counts as a difference unless it is 0.
-bool changed_columns(const SparseMatrix& k, const SparseMatrix& k0, int limit,
-                     std::vector<int>& cols) {
-  cols.clear();
-  const int* p = k.outerIndexPtr();
-  const int* p0 = k0.outerIndexPtr();
-  const int* i = k.innerIndexPtr();
-  const int* i0 = k0.innerIndexPtr();
-  const double* x = k.valuePtr();
-  const double* x0 = k0.valuePtr();
-  for (int j = 0; j < k.outerSize(); ++j) {
-    int a = p[j], a0 = p0[j];
-    const int end = p[j + 1], end0 = p0[j + 1];
-    bool differs = false;
-    while ((a < end || a0 < end0) && !differs) {
-      if (a < end && a0 < end0 && i[a] == i0[a0]) {
-        differs = x[a++] != x0[a0++];
-      } else if (a0 >= end0 || (a < end && i[a] < i0[a0])) {
-        differs = x[a++] != 0.0;
-      } else {
-        differs = x0[a0++] != 0.0;
-      }
-    }
-    if (!differs) continue;
-    if (static_cast<int>(cols.size()) == limit) return false;
-    cols.push_back(j);
-  }
-  return true;
-}
-
 }  // namespace
 
 LuReuse& default_lu_reuse() {
@@ -162,43 +133,6 @@ LuStatistics& lu_statistics() {
   return statistics;
 }
 
-// K = K0 + U V^T with U, V supported on a few rows and columns: Woodbury with K0's factor.
-struct LowRankUpdate {
-  std::shared_ptr<const NumericLu> base;
-  std::vector<int> rows, cols;                       // supports of U and V
-  Eigen::MatrixXd u, v;                              // |rows| x r, |cols| x r
-  Eigen::MatrixXd z;                                 // K0^-1 U (n x r)
-  Eigen::PartialPivLU<Eigen::MatrixXd> capacitance;  // I + V^T K0^-1 U
-  mutable Eigen::MatrixXd zt;  // K0^-T V (n x r), made on the first transposed solve
-
-  // K^-1 b (transposed: K^-T b) without refinement.
-  Eigen::VectorXd apply(const Eigen::VectorXd& b, bool transposed) const {
-    const Eigen::Index r = u.cols();
-    // K^T = K0^T + V U^T: the roles of U and V swap.
-    const std::vector<int>& right_support = transposed ? rows : cols;
-    const Eigen::MatrixXd& right = transposed ? u : v;
-    if (transposed && zt.cols() != r) {
-      zt.resize(b.size(), r);
-      for (Eigen::Index c = 0; c < r; ++c) {
-        Eigen::VectorXd e = Eigen::VectorXd::Zero(b.size());
-        for (std::size_t a = 0; a < cols.size(); ++a) e[cols[a]] = v(a, c);
-        zt.col(c) = base->solve(UMFPACK_At, e, false);
-      }
-    }
-    const Eigen::VectorXd y = base->solve(transposed ? UMFPACK_At : UMFPACK_A, b, false);
-    Eigen::VectorXd t(r);
-    for (Eigen::Index c = 0; c < r; ++c) {
-      double sum = 0.0;
-      for (std::size_t a = 0; a < right_support.size(); ++a)
-        sum += right(a, c) * y[right_support[a]];
-      t[c] = sum;
-    }
-    const Eigen::VectorXd s =
-        transposed ? Eigen::VectorXd(capacitance.transpose().solve(t)) : capacitance.solve(t);
-    return y - (transposed ? zt : z) * s;
-  }
-};
-
 struct LuFactor::Impl {
   LuReuse reuse;
   std::shared_ptr<const NumericLu> full;  // the factorisation of k itself
@@ -209,73 +143,6 @@ struct LuFactor::Impl {
   bool deferred = false;
   bool singular = false;  // the deferred factorisation found k singular
 };
-
-namespace {
-
-// K = K0 + (K - K0) with the change confined to cols: a rank-revealing QR of the changed block
-// gives U V^T. Null when the change is too large for an update to pay.
-std::unique_ptr<LowRankUpdate> low_rank_update(const SparseMatrix& k,
-                                               std::shared_ptr<const NumericLu> base,
-                                               const std::vector<int>& cols, int max_rank) {
-  const int n = static_cast<int>(k.rows());
-  std::vector<int> row_slot(n, -1);
-  std::vector<int> rows;
-  std::vector<Eigen::Triplet<double>> change;  // (row, column slot, K - K0)
-  const SparseMatrix& k0 = base->k;
-  for (std::size_t c = 0; c < cols.size(); ++c) {
-    const int j = cols[c];
-    const auto add = [&](int row, double value) {
-      if (value == 0.0) return;
-      if (row_slot[row] < 0) {
-        row_slot[row] = static_cast<int>(rows.size());
-        rows.push_back(row);
-      }
-      change.emplace_back(row_slot[row], static_cast<int>(c), value);
-    };
-    SparseMatrix::InnerIterator a(k, j), a0(k0, j);
-    while (a || a0) {
-      if (a && a0 && a.row() == a0.row()) {
-        add(a.row(), a.value() - a0.value());
-        ++a;
-        ++a0;
-      } else if (!a0 || (a && a.row() < a0.row())) {
-        add(a.row(), a.value());
-        ++a;
-      } else {
-        add(a0.row(), -a0.value());
-        ++a0;
-      }
-    }
-  }
-  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()),
-                                                static_cast<Eigen::Index>(cols.size()));
-  for (const auto& t : change) block(t.row(), t.col()) += t.value();
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(block);
-  // Pivots below 1e-13 of the largest change are round-off of the assembly's sums.
-  qr.setThreshold(1e-13);
-  const Eigen::Index r = qr.rank();
-  if (r > max_rank) return nullptr;
-  auto up = std::make_unique<LowRankUpdate>();
-  up->base = std::move(base);
-  up->rows = std::move(rows);
-  up->cols = cols;
-  up->u = qr.householderQ() * Eigen::MatrixXd::Identity(block.rows(), r);
-  const Eigen::MatrixXd r_top = qr.matrixR().topRows(r).triangularView<Eigen::Upper>();
-  up->v = (r_top * qr.colsPermutation().transpose()).transpose();
-  up->z.resize(n, r);
-  for (Eigen::Index c = 0; c < r; ++c) {
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
-    for (std::size_t a = 0; a < up->rows.size(); ++a) e[up->rows[a]] = up->u(a, c);
-    up->z.col(c) = up->base->solve(UMFPACK_A, e, false);
-  }
-  Eigen::MatrixXd cap = Eigen::MatrixXd::Identity(r, r);
-  for (std::size_t a = 0; a < up->cols.size(); ++a)
-    cap += up->v.row(a).transpose() * up->z.row(up->cols[a]);
-  up->capacitance.compute(cap);
-  return up;
-}
-
-}  // namespace
 
 namespace {
 // glibc serves UMFPACK's large blocks by mmap and unmaps them on free, so every factorisation
@@ -420,17 +287,6 @@ double LuFactor::log10_abs_determinant() const {
 }
 
 bool LuFactor::factorised() const { return !impl_->deferred; }
-
-namespace {
-// x = K^-1 b with one step of iterative refinement against K itself.
-Eigen::VectorXd refined(const LowRankUpdate& up, const SparseMatrix& k, const Eigen::VectorXd& b,
-                        bool transposed) {
-  Eigen::VectorXd x = up.apply(b, transposed);
-  const Eigen::VectorXd r =
-      transposed ? Eigen::VectorXd(b - k.transpose() * x) : Eigen::VectorXd(b - k * x);
-  return x + up.apply(r, transposed);
-}
-}  // namespace
 
 namespace {
 // GMRES with the deferred factorisation's preconditioner; false when over the bound.

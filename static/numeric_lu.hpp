@@ -1,5 +1,6 @@
 #pragma once
-// UMFPACK's numeric LU as linear_solvers.cpp and gmres.cpp use it. Internal to static/.
+// UMFPACK's numeric LU as linear_solvers.cpp, low_rank_update.cpp and gmres.cpp use it. Internal
+// to static/.
 #include <cmath>
 #include <ctime>
 #include <stdexcept>

@@ -2,7 +2,7 @@
 // The frozen contact network of the rigid-limit bound (SPEC §4.5, STATIC.md §S3.6): the frames of
 // all contacts and which contacts and disks enter the LP, with the dependent rows removed
 // (disks that carry no force, translations of wall-free periodic components, gear torques).
-// Internal to static/rigid_limit*.cpp.
+// Internal to static/rigid_*.cpp.
 #include <vector>
 
 #include "common/configuration.hpp"

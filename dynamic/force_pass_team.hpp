@@ -1,0 +1,139 @@
+#pragma once
+// The force pass's split over the team (parts, gathered blocks, sums), apart from the pair physics.
+// Included by contact_forces.cpp only, in an anonymous namespace: the force pass stays one
+// translation unit, so the compiler inlines the sweeps and gather() into run().
+#include <omp.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "contact_forces.hpp"
+
+namespace granstab::dynamic {
+namespace {
+
+int block_count(std::size_t n) { return static_cast<int>((n + block_size - 1) / block_size); }
+
+BlockSums add_blocks(const std::vector<BlockSums>& blocks, int count) {
+  BlockSums total;
+  for (int b = 0; b < count; ++b) {
+    for (int k = 0; k < 4; ++k) total.sigma[k] += blocks[b].sigma[k];
+    for (int k = 0; k < 2; ++k) {
+      total.sigma_viscous[k] += blocks[b].sigma_viscous[k];
+      total.wall_force[k] += blocks[b].wall_force[k];
+      total.wall_force_viscous[k] += blocks[b].wall_force_viscous[k];
+    }
+  }
+  return total;
+}
+
+// A disk's pair sums: running while its rows are swept, or collected from the slots (gather).
+struct RowSums {
+  double fx, fy, fvx, fvy, torque;
+};
+
+// Pair sums of a disk of a gathered block from the slots, in ascending partner order: pairs
+// where the disk is j (partners < i), then pairs where it is i (partners > i).
+RowSums gather(const PairArrays& pairs, int i) {
+  RowSums s{0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int k = pairs.column_start[i]; k < pairs.column_start[i + 1]; ++k) {
+    const PairArrays::Force& f = pairs.force[pairs.column_pair[k]];
+    s.fx += f.fx;
+    s.fy += f.fy;
+    s.fvx += f.fvx;
+    s.fvy += f.fvy;
+    s.torque += f.torque_j;
+  }
+  for (int p = pairs.row_start[i]; p < pairs.row_start[i + 1]; ++p) {
+    const PairArrays::Force& f = pairs.force[p];
+    s.fx -= f.fx;
+    s.fy -= f.fy;
+    s.fvx -= f.fvx;
+    s.fvy -= f.fvy;
+    s.torque += f.torque_i;
+  }
+  return s;
+}
+
+int part_begin(int blocks, int part, int team) {
+  return static_cast<int>(static_cast<long long>(blocks) * part / team);
+}
+
+// Which blocks a split into `team` parts must gather (see PairArrays): those with a disk whose
+// first partner (smallest i of its column) lies before the start of its part.
+void plan_team(PairArrays& pairs, int n, int team) {
+  const int nb = block_count(static_cast<std::size_t>(n));
+  pairs.block_gathered.assign(nb, 0);
+  pairs.any_gathered = false;
+  for (int part = 0; part < team; ++part) {
+    const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
+    const int part_first = b0 * block_size;
+    for (int k = part_first; k < std::min(n, b1 * block_size); ++k) {
+      const int s = pairs.column_start[k];
+      if (s < pairs.column_start[k + 1] && pairs.i[pairs.column_pair[s]] < part_first) {
+        pairs.block_gathered[k / block_size] = 1;
+        pairs.any_gathered = true;
+      }
+    }
+  }
+  pairs.slotted.resize(pairs.size());
+  pairs.block_slotted.assign(nb, 0);
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    pairs.slotted[p] = pairs.block_gathered[pairs.i[p] / block_size] |
+                       pairs.block_gathered[pairs.j[p] / block_size];
+    pairs.block_slotted[pairs.i[p] / block_size] |= pairs.slotted[p];
+  }
+  pairs.team = team;
+}
+
+// One pass over the pairs on the team: part k's thread clears its disks' sums, sweeps the rows
+// of its blocks and completes each block that is not gathered; after a barrier (only if some
+// block is gathered) the gathered blocks are completed from the slots. Per-block sums are added
+// in block order (pairs first, then disks), so every reduction is thread-independent.
+template <class Clear, class Rows, class Finish>
+BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+              std::vector<BlockSums>& blocks, Clear clear, Rows rows, Finish finish) {
+  const int n = static_cast<int>(disks.size());
+  const int nb = block_count(disks.size());
+  blocks.resize(2 * static_cast<std::size_t>(nb));
+  pairs.block_closed.resize(nb);
+  pairs.block_opened.resize(nb);
+  const int team = pairs.team;
+#pragma omp parallel num_threads(team) if (in.parallel)
+  {
+    // Parts are fixed by the plan; a smaller team than planned runs several parts per thread.
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    for (int part = t; part < team; part += threads) {
+      const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
+      clear(b0 * block_size, std::min(n, b1 * block_size));
+      for (int b = b0; b < b1; ++b) {
+        const int first = b * block_size, end = std::min(n, first + block_size);
+        BlockSums sums;
+        rows(b, first, end, sums);
+        blocks[b] = sums;
+        if (!pairs.block_gathered[b]) {
+          BlockSums disk_sums;
+          for (int i = first; i < end; ++i) finish(i, false, disk_sums);
+          blocks[nb + b] = disk_sums;
+        }
+      }
+    }
+    if (pairs.any_gathered) {
+#pragma omp barrier
+      for (int part = t; part < team; part += threads) {
+        const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
+        for (int b = b0; b < b1; ++b) {
+          if (!pairs.block_gathered[b]) continue;
+          const int first = b * block_size, end = std::min(n, first + block_size);
+          BlockSums disk_sums;
+          for (int i = first; i < end; ++i) finish(i, true, disk_sums);
+          blocks[nb + b] = disk_sums;
+        }
+      }
+    }
+  }
+  return add_blocks(blocks, 2 * nb);
+}
+
+}  // namespace
+}  // namespace granstab::dynamic
