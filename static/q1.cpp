@@ -289,6 +289,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       if (options.on_accepted) options.on_accepted(lambda, net);
       last_check = check;
       report_progress(lambda);
+      if (options.stop_when && options.stop_when(result.curve.back())) break;
       // Grow back after cuts, never beyond the user's step.
       if (++successes_since_cut >= 2 && step < options.dq) {
         step = std::min(options.dq, 2.0 * step);

@@ -36,6 +36,8 @@ struct StepProgress {
   bool finished = false;  // the last call, once the run has ended
 };
 
+struct CurvePoint;
+
 struct Q1Options {
   double dq = 1e-3;      // step of the load parameter (q; epsilon_2 under strain control)
   double dq_min = 1e-7;  // step floor: q1 is bracketed to [q, q + 2 dq_min) at worst
@@ -60,6 +62,10 @@ struct Q1Options {
   std::function<void(double load, const Network& net)> on_accepted;
   // Called after the start and after every attempt; unset, it costs one test per attempt.
   std::function<void(const StepProgress&)> on_progress;
+  // Called with the curve point of every accepted step; true ends the run there as if it had
+  // passed load_stop (criterion none): a stop on a measured quantity, e.g. the hybrid SIC's
+  // epsilon_2 target (drivers/hybrid_sic.hpp).
+  std::function<bool(const CurvePoint&)> stop_when;
 };
 
 struct CurvePoint {
