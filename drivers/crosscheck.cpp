@@ -373,7 +373,14 @@ Configuration configuration_of(const statics::Network& n) {
 }  // namespace
 
 std::string disks_at_q1_csv(const statics::StabilityResult& r) {
-  const Configuration c = configuration_of(r.network_at_q1);
+  return disks_csv(configuration_of(r.network_at_q1));
+}
+
+std::string network_at_q1_csv(const statics::StabilityResult& r) {
+  return network_csv(configuration_of(r.network_at_q1));
+}
+
+std::string disks_csv(const Configuration& c) {
   const auto loads = contact_loads(c);
   const auto rattler = find_rattlers(c, loads);
   std::ostringstream s;
@@ -386,8 +393,7 @@ std::string disks_at_q1_csv(const statics::StabilityResult& r) {
   return s.str();
 }
 
-std::string network_at_q1_csv(const statics::StabilityResult& r) {
-  const Configuration c = configuration_of(r.network_at_q1);
+std::string network_csv(const Configuration& c) {
   const auto loads = contact_loads(c);
   std::ostringstream s;
   // (x_i, y_i) and the branch vector (lx, ly) to the image of j (or to the wall foot).
@@ -430,8 +436,7 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"kappa\": " << json_number(r.start.material.kappa(r.pressure)) << ",\n"
     << "  \"mu\": " << json_number(r.mu) << ",\n"
     << "  \"pressure\": " << json_number(r.pressure) << ",\n"
-    << x.start_fields
-    << "  \"dq\": " << json_number(x.dq) << ",\n"
+    << x.start_fields << "  \"dq\": " << json_number(x.dq) << ",\n"
     << "  \"dynamic_substeps\": " << o.dynamic_substeps << ",\n"
     << "  \"static_substeps\": " << o.static_substeps << ",\n"
     << "  \"q_max\": " << json_number(x.q_max) << ",\n"

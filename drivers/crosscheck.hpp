@@ -222,6 +222,9 @@ std::string matched_csv(const Comparison& comparison);
 // sliding), from the static network at q1 through common/measurements.hpp.
 std::string disks_at_q1_csv(const statics::StabilityResult& result);
 std::string network_at_q1_csv(const statics::StabilityResult& result);
+// The same two files of any state (the hybrid SIC's rearrangements).
+std::string disks_csv(const Configuration& state);
+std::string network_csv(const Configuration& state);
 // The unstable mode at q1, one row per disk (ux, uy, theta), then e1, e2 (format of `granstab q1`).
 std::string mode_csv(const statics::StabilityResult& result);
 

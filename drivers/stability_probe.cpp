@@ -88,6 +88,58 @@ std::vector<char> overlapping_rattlers(const statics::Network& net, const Config
   return out;
 }
 
+int push_out_rattlers(Configuration& state, const std::vector<char>& rattlers) {
+  Disks& d = state.disks;
+  const auto& L = state.cell.length;
+  const bool periodic = state.cell.periodic();
+  const auto separation = [&](double delta, int a) {
+    return periodic ? delta + minimum_image_shift(delta, L[a]) * L[a] : delta;
+  };
+  constexpr double margin = 1e-9;  // units of a: a gap, not a contact at round-off
+  // The push that frees disk i from its overlaps (zero when it has none).
+  const auto push = [&](std::size_t i) {
+    std::array<double, 2> p{0.0, 0.0};
+    for (std::size_t j = 0; j < d.size(); ++j) {
+      if (j == i) continue;
+      const double dx = separation(d.x[j] - d.x[i], 0), dy = separation(d.y[j] - d.y[i], 1);
+      const double dist = std::hypot(dx, dy), overlap = d.radius[i] + d.radius[j] - dist;
+      if (overlap > 0.0 && dist > 0.0) {
+        p[0] -= (overlap + margin) * dx / dist;
+        p[1] -= (overlap + margin) * dy / dist;
+      }
+    }
+    if (!periodic) {
+      const double x[2] = {d.x[i], d.y[i]};
+      for (int a = 0; a < 2; ++a) {
+        if (x[a] < d.radius[i]) p[a] += d.radius[i] - x[a] + margin;
+        if (x[a] + d.radius[i] > L[a]) p[a] -= x[a] + d.radius[i] - L[a] + margin;
+      }
+    }
+    return p;
+  };
+  int left = 0;
+  for (std::size_t i = 0; i < d.size() && i < rattlers.size(); ++i) {
+    if (!rattlers[i]) continue;
+    std::array<double, 2> p = push(i);
+    for (int iteration = 0; iteration < 100 && (p[0] != 0.0 || p[1] != 0.0); ++iteration) {
+      d.x[i] += p[0];
+      d.y[i] += p[1];
+      p = push(i);
+    }
+    if (p[0] != 0.0 || p[1] != 0.0) ++left;
+    if (!periodic) continue;
+    // Back into [0, L): l = r_j + k L - r_i is kept with k -> k + n_j - n_i.
+    const int n1 = wrap(d.x[i], L[0]), n2 = wrap(d.y[i], L[1]);
+    Contacts& c = state.contacts;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      if (is_wall(c.j[k])) continue;
+      if (c.i[k] == static_cast<int>(i)) c.k1[k] -= n1, c.k2[k] -= n2;
+      if (c.j[k] == static_cast<int>(i)) c.k1[k] += n1, c.k2[k] += n2;
+    }
+  }
+  return left;
+}
+
 Configuration without_disks(const Configuration& config, const std::vector<char>& remove) {
   Configuration c = config;
   const std::size_t n = config.disks.size();

@@ -33,6 +33,15 @@ Configuration configuration_of_static_state(const statics::Network& net,
 // are forces the static state does not balance.
 std::vector<char> overlapping_rattlers(const statics::Network& net, const Configuration& state);
 
+// Moves each marked rattler (overlapping_rattlers) out of its overlaps, the other disks fixed:
+// a rattler has no place in the static solution (any position in its cage is one), so the
+// hybrid SIC hands the engine a state in which it touches nothing rather than one with forces
+// the static state did not balance. Each push moves the rattler along the sum of its overlap
+// normals by the overlaps (plus 1e-9 a), repeated until it is free (at most 100 times).
+// Positions are wrapped back into a periodic cell and the rattler's contact images adjusted.
+// Returns the number of marked rattlers still overlapping (a cage too small for the disk).
+int push_out_rattlers(Configuration& state, const std::vector<char>& rattlers);
+
 // The configuration without the marked disks (indices renumbered, their contacts dropped).
 Configuration without_disks(const Configuration& config, const std::vector<char>& remove);
 
