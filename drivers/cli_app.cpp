@@ -19,6 +19,7 @@ void add_all_commands(CLI::App& app) {
   add_perturb_command(app);
   add_q1_command(app);
   add_compare_command(app);
+  add_sic_command(app);
   add_probe_command(app);
   add_plot_command(app);
   add_resume_command(app);

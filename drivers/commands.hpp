@@ -16,6 +16,7 @@ void add_creep_command(CLI::App& app);
 void add_perturb_command(CLI::App& app);
 void add_q1_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
+void add_sic_command(CLI::App& app);
 void add_probe_command(CLI::App& app);
 void add_plot_command(CLI::App& app);
 void add_resume_command(CLI::App& app);
