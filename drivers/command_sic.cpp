@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <memory>
 #include <numeric>
+#include <optional>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -34,6 +36,10 @@ struct SicCommandOptions {
   std::vector<std::string> overrides;  // --set engine.* and material.*
   hybrid::SicOptions run;
   StaticStartOptions start;
+  // The static step floor. Default dq / 1000, not q1's 1e-7: past the last stable state the MD
+  // takes the sample to the next increment anyway, so locating each loss of stability more
+  // finely changes only where a static interval ends, at ~1 attempt per halving.
+  std::optional<double> dq_min;
   int pictures = 3;  // force networks of this many largest rearrangements
   bool plot = false;
 };
@@ -181,9 +187,9 @@ void add_sic_options(CLI::App& cmd, SicCommandOptions& o) {
                  "MD steps allowed to reach equilibrium after one increment")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd.add_option("--dq-min", o.run.statics.dq_min,
-                 "static step floor: each interval's loss of stability is bracketed to it")
-      ->capture_default_str()
+  cmd.add_option("--dq-min", o.dq_min,
+                 "static step floor: each interval's loss of stability is bracketed to it "
+                 "(default dq / 1000)")
       ->check(CLI::PositiveNumber);
   cmd.add_option("--pictures", o.pictures,
                  "force networks written before and after this many largest rearrangements")
@@ -206,6 +212,8 @@ void run_sic_command(SicCommandOptions& o) {
   // Validated before any output exists: a refused start leaves no file behind.
   const StaticStart start = read_static_start(o.sample, o.start, crosscheck::require_biaxial_start);
   const Configuration from = crosscheck::biaxial_start(start.config, start.config.material.mu);
+  o.run.statics.dq_min = o.dq_min.value_or(1e-3 * o.run.dq);
+  if (o.run.statics.dq_min > o.run.dq) throw std::invalid_argument("sic: --dq-min exceeds --dq");
   o.run.statics.hill_every = 0;  // an indicator the SIC curve does not report
 
   Progress progress(o.run.hybrid ? "sic --hybrid" : "sic", o.run.epsilon_2_end, !o.start.quiet);

@@ -32,6 +32,7 @@ const std::vector<CommandRule>& command_rules() {
       {"biaxial", true, {"output.csv=\"curve.csv\"", "output.summary=\"summary.json\""}, {}},
       {"q1", false, {}, {"--out", "."}},
       {"compare", false, {}, {"--out", "."}},
+      {"sic", false, {}, {"--out", "."}},
   };
   return rules;
 }
@@ -217,7 +218,7 @@ Plan read_plan(const fs::path& file_in) {
         const auto* s = v.as_string();
         for (const CommandRule& c : command_rules())
           if (s && s->get() == c.command) rule = &c;
-        if (!rule) r.fail(&v, key, "expected one of prepare, biaxial, q1, compare");
+        if (!rule) r.fail(&v, key, "expected one of prepare, biaxial, q1, compare, sic");
         step.command = s->get();
       } else if (k.str() == "name") {
         const auto* s = v.as_string();

@@ -56,6 +56,12 @@ def scalars_of(command, directory):
         final = s.get("final", {})
         for k in ("q", "epsilon_2", "epsilon_v"):
             d["final_" + k] = final.get(k)
+    elif command == "sic":
+        s = read_json(os.path.join(directory, "sic.json"))
+        for k in ("method", "stop_reason", "q_last", "epsilon_2_last", "stability_intervals",
+                  "rearrangements", "md_steps", "static_states", "static_seconds",
+                  "dynamic_seconds"):
+            d[k] = s.get(k)
     elif command == "compare":
         s = read_json(os.path.join(directory, "compare.json"))
         for k, v in s.items():
@@ -65,7 +71,7 @@ def scalars_of(command, directory):
 
 
 def curve_file(command, directory):
-    name = {"q1": "static_curve.csv", "biaxial": "curve.csv"}.get(command)
+    name = {"q1": "static_curve.csv", "biaxial": "curve.csv", "sic": "sic_curve.csv"}.get(command)
     return os.path.join(directory, name) if name else None
 
 
