@@ -10,10 +10,10 @@ import os
 import tempfile
 
 from ._core import Configuration, Error, run
-from ._results import CompareResult, Q1Result, Result, read_csv
+from ._results import CompareResult, Q1Result, Result, SicResult, read_csv
 
-__all__ = ["Configuration", "Error", "run", "q1", "compare", "prepare", "biaxial", "info",
-           "read_csv", "Result", "Q1Result", "CompareResult"]
+__all__ = ["Configuration", "Error", "run", "q1", "compare", "sic", "prepare", "biaxial", "info",
+           "read_csv", "Result", "Q1Result", "CompareResult", "SicResult"]
 
 
 def _options(**options):
@@ -86,6 +86,18 @@ def compare(sample, *, dq, out=None, progress=None, quiet=True, **options):
     args += _options(quiet=quiet, **options)
     run(args, progress)
     return CompareResult(out)
+
+
+def sic(sample, *, dq, hybrid=True, out=None, progress=None, quiet=True, **options):
+    """The SIC biaxial test (``granstab sic``, docs/hybrid.md): with ``hybrid=True`` static
+    stepping inside the stability intervals and MD across the rearrangements, with False every
+    increment by MD. Options as on the command line (``mu``, ``epsilon_2_end``, ``q_max``,
+    ``epsilon_2_max``, ``dq_min``, ``pictures``, ...). Returns a SicResult."""
+    out = _out_dir(out, "sic")
+    args = ["sic", os.fspath(sample), "--dq", repr(float(dq)), "--out", os.fspath(out)]
+    args += _options(hybrid=hybrid, quiet=quiet, **options)
+    run(args, progress)
+    return SicResult(out)
 
 
 def _protocol(command, settings, sections, progress, quiet):

@@ -61,3 +61,12 @@ class CompareResult(Result):
             "static_curve": os.path.join(out, "static_curve.csv"),
             "dynamic_curve": os.path.join(out, "dynamic_curve.csv"),
             "matched": os.path.join(out, "matched.csv")})
+
+
+class SicResult(Result):
+    """granstab sic: the fields of sic.json (stop_reason, stability_intervals, rearrangements,
+    rearrangement_jump_epsilon_2, md_steps, static_seconds, ...); ``curve`` (sic_curve.csv, its
+    ``method`` column "static" / "dynamic" as strings)."""
+
+    def __init__(self, out):
+        super().__init__(out, "sic.json", {"curve": os.path.join(out, "sic_curve.csv")})

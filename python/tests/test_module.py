@@ -89,6 +89,19 @@ def test_q1_equals_the_command_line_bit_for_bit(tmp_path):
     assert r.curve["q"][-1] >= 0.1 or r.q1 is not None
 
 
+def test_hybrid_sic_result(tmp_path):
+    r = granstab.sic(SAMPLE, dq=0.01, epsilon_2_end=0.004, pictures=0, out=str(tmp_path / "py"))
+    c = cli("sic", SAMPLE, "--dq", "0.01", "--hybrid", "--epsilon-2-end", "0.004", "--pictures",
+            "0", "--quiet", "--out", str(tmp_path / "cli"))
+    assert c.returncode == 0, c.stderr
+    name = "sic_curve.csv"
+    assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    assert r.method == "hybrid" and r.stop_reason == "epsilon_2_end"
+    methods = list(r.curve["method"])
+    assert methods.count("dynamic") == r.rearrangements >= 2
+    assert len(r.rearrangement_jump_epsilon_2) == r.rearrangements
+
+
 def test_malformed_file_raises_the_command_line_message(tmp_path):
     bad = tmp_path / "bad.granstab"
     text = open(SAMPLE).read().splitlines()
