@@ -40,7 +40,8 @@ std::string state_name(double q) {
 
 void run_probe(ProbeCommandOptions o) {
   // Validated before any output exists: a refused start leaves no file behind.
-  const Configuration sample = read_static_start(o.sample, o.start, crosscheck::require_biaxial_start).config;
+  const Configuration sample =
+      read_static_start(o.sample, o.start, crosscheck::require_biaxial_start).config;
   o.run.statics.on_progress =
       static_progress("probe (static run)", !o.start.quiet, o.run.q_max, "--q-max");
   o.run.rigid_limit = false;

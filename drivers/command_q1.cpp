@@ -136,6 +136,7 @@ void add_q1_command(CLI::App& app) {
   cmd->add_option("--stop", options->q1.load_stop,
                   "stop once the load parameter (q, or epsilon_2) passes this value");
   add_hill_option(*cmd, options->q1.hill_every);
+  add_step_growth_option(*cmd, options->q1.step_growth);
   add_static_start_options(*cmd, options->start, true);
   cmd->callback([options] { run_q1(*options); });
 }

@@ -47,13 +47,14 @@ struct SicCommandOptions {
 std::string sic_curve_csv(const hybrid::SicResult& r) {
   std::ostringstream s;
   s << "state,method,interval,q_target,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,md_steps,"
-       "on_grid,reached\n";
+       "on_grid,reached,interpolated\n";
   for (std::size_t k = 0; k < r.curve.size(); ++k) {
     const hybrid::SicPoint& p = r.curve[k];
     s << k << ',' << hybrid::method_name(p.method) << ',' << p.interval << ','
       << json_number(p.q_target) << ',' << json_number(p.q) << ',' << json_number(p.eps1) << ','
       << json_number(p.eps2) << ',' << json_number(p.epsv) << ',' << p.n_sliding << ','
-      << p.md_steps << ',' << (p.on_grid ? 1 : 0) << ',' << (p.reached ? 1 : 0) << '\n';
+      << p.md_steps << ',' << (p.on_grid ? 1 : 0) << ',' << (p.reached ? 1 : 0) << ','
+      << (p.interpolated ? 1 : 0) << '\n';
   }
   return s.str();
 }
@@ -200,6 +201,7 @@ void add_sic_options(CLI::App& cmd, SicCommandOptions& o) {
   cmd.add_option("--set", o.overrides,
                  "key=value: engine.dt_fraction, engine.skin; material.KEY=VALUE sets the "
                  "biaxial material (KEY: k_n, k_t, mu, zeta, mu_wall)");
+  add_step_growth_option(cmd, o.run.statics.step_growth);
   add_static_start_options(cmd, o.start, false);
 }
 

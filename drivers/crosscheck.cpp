@@ -317,13 +317,13 @@ CrosscheckResult run_crosscheck(const Configuration& sample, const CrosscheckOpt
 std::string static_curve_csv(const statics::StabilityResult& r) {
   std::ostringstream s;
   s << "step,load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,hill,det_sign,newton_iterations,"
-       "new_contacts\n";
+       "new_contacts,interpolated\n";
   for (std::size_t k = 0; k < r.curve.size(); ++k) {
     const statics::CurvePoint& p = r.curve[k];
     s << k << ',' << json_number(p.load) << ',' << json_number(p.q) << ',' << json_number(p.eps1)
       << ',' << json_number(p.eps2) << ',' << json_number(p.epsv) << ',' << p.n_sliding << ','
       << json_number(p.hill) << ',' << p.determinant_sign << ',' << p.newton_iterations << ','
-      << p.new_contacts << '\n';
+      << p.new_contacts << ',' << (p.interpolated ? 1 : 0) << '\n';
   }
   return s.str();
 }

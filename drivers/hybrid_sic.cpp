@@ -53,6 +53,7 @@ SicPoint static_point(const statics::CurvePoint& c, int interval, double dq) {
   p.n_sliding = c.n_sliding;
   p.interval = interval;
   p.on_grid = on_grid(c.load, dq);
+  p.interpolated = c.interpolated;
   return p;
 }
 
@@ -146,8 +147,9 @@ SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObser
       // tolerances, iv.polish_*): only the first interval records its start.
       for (std::size_t k = interval == 0 ? 0 : 1; k < s.curve.size(); ++k)
         result.curve.push_back(static_point(s.curve[k], interval, o.dq));
-      result.static_states += static_cast<int>(s.curve.size());
-      iv.states = static_cast<int>(s.curve.size());
+      iv.states = static_cast<int>(std::count_if(s.curve.begin(), s.curve.end(),
+                                                 [](const auto& c) { return !c.interpolated; }));
+      result.static_states += iv.states;
       iv.q_end = s.q1;
       iv.eps2_end = s.curve.back().eps2;
       iv.end =

@@ -138,6 +138,15 @@ std::string static_start_json(const StaticStart& start, const std::string& inden
 
 namespace granstab::cli {
 
+void add_step_growth_option(CLI::App& cmd, int& step_growth) {
+  cmd.add_option("--step-growth", step_growth,
+                 "static steps grow to N dq while no contact changes status; a status event is "
+                 "stepped at dq; the states at multiples of dq in between are interpolated "
+                 "(1: fixed steps)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+}
+
 void add_hill_option(CLI::App& cmd, std::size_t& hill_every) {
   cmd.add_option_function<std::string>(
          "--hill",

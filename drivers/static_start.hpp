@@ -32,6 +32,10 @@ struct StaticStartOptions {
 // static curve (Q1Options::hill_every), shared by q1 and compare.
 void add_hill_option(CLI::App& cmd, std::size_t& hill_every);
 
+// --step-growth N (Q1Options::step_growth): steps up to N dq between contact status events,
+// shared by q1, compare and sic.
+void add_step_growth_option(CLI::App& cmd, int& step_growth);
+
 // --mu, --kt-ratio, --clip-to-cone, --polish, --quiet; and --set material.KEY=VALUE when
 // `with_set` (compare shares its --set with the dynamic settings: it passes the material.* ones
 // on with split_material_settings).

@@ -180,11 +180,42 @@ void record_instability(StabilityResult& result, const Network& net, const Predi
 
 }  // namespace
 
+// No contact changed status, opened or closed between two states of a step (same list, same
+// order: advance keeps the order of the contacts that stay and appends the new ones).
+static bool same_statuses(const Network& before, const Network& after) {
+  const Contacts& a = before.contacts;
+  const Contacts& b = after.contacts;
+  return a.i == b.i && a.j == b.j && a.k1 == b.k1 && a.k2 == b.k2 && a.status == b.status;
+}
+
+// The states at the multiples of dq strictly between two accepted states (from, to], linearly
+// interpolated, marked as such.
+static void interpolate_grid(const CurvePoint& from, const CurvePoint& to, double dq,
+                             std::vector<CurvePoint>& curve) {
+  const double first = std::floor(from.load / dq + 1e-9) + 1.0;
+  for (double k = first; k * dq < to.load - 1e-9 * dq; k += 1.0) {
+    const double t = (k * dq - from.load) / (to.load - from.load);
+    CurvePoint p = to;
+    p.load = k * dq;
+    p.q = from.q + t * (to.q - from.q);
+    p.eps1 = from.eps1 + t * (to.eps1 - from.eps1);
+    p.eps2 = from.eps2 + t * (to.eps2 - from.eps2);
+    p.epsv = from.epsv + t * (to.epsv - from.epsv);
+    p.hill = std::numeric_limits<double>::quiet_NaN();
+    p.newton_iterations = 0;
+    p.new_contacts = 0;
+    p.interpolated = true;
+    curve.push_back(p);
+  }
+}
+
 StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath& path,
                                      const std::array<double, 2>& reference_length,
                                      const Q1Options& options) {
   if (!(options.dq > 0.0) || !(options.dq_min > 0.0) || options.dq_min > options.dq)
     throw std::invalid_argument("Q1Options: need 0 < dq_min <= dq");
+  if (options.step_growth < 1) throw std::invalid_argument("Q1Options: need step_growth >= 1");
+  const double step_max = options.step_growth * options.dq;
   StabilityResult result;
   // Deferred factorisations are preconditioned by earlier ones: start every run from none, so
   // that a run gives the same bits whatever ran before it in this thread.
@@ -208,11 +239,11 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   point.negative_eigenvalues = negative;
   HillResult hill_last;
   // Logged at the start and at every hill_every-th accepted state after it.
-  auto hill_due = [&] {
-    return options.hill_every > 0 && result.curve.size() % options.hill_every == 0;
-  };
+  std::size_t computed = 0;  // states of the curve that are not interpolated
+  auto hill_due = [&] { return options.hill_every > 0 && computed % options.hill_every == 0; };
   if (hill_due()) point.hill = hill_of(net, hill_last);
   result.curve.push_back(point);
+  ++computed;
   Criterion failure = Criterion::none;
   std::string detail;
   if (!stable(check, negative)) {
@@ -270,12 +301,21 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
         detail = "no consistent statuses beyond the bracket: " + check.failure;
       }
       if (!accepted) beyond.clear();  // the failed check ran on another contact list
+      // A step longer than dq that meets a status event is tried again at dq (step_growth).
+      if (accepted && step > options.dq * (1.0 + 1e-12) && !same_statuses(net, trial)) {
+        ++result.rejected["status event in a step longer than dq"];
+        step = options.dq;
+        successes_since_cut = 0;
+        report_progress(lambda);
+        continue;
+      }
     } else {
       failure = Criterion::existence;
       detail = s.failure;
     }
     if (accepted) {
       at_floor_exact = false;
+      const bool event_free = same_statuses(net, trial);
       net = std::move(trial);
       lambda += step;
       ++result.steps;
@@ -284,16 +324,25 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       p.negative_eigenvalues = negative;
       p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
       p.new_contacts = s.new_contacts;
+      if (step > options.dq * (1.0 + 1e-12))
+        interpolate_grid(result.curve.back(), p, options.dq, result.curve);
       if (hill_due()) p.hill = hill_of(net, hill_last);
       result.curve.push_back(p);
+      ++computed;
       if (options.on_accepted) options.on_accepted(lambda, net);
       last_check = check;
       report_progress(lambda);
       if (options.stop_when && options.stop_when(result.curve.back())) break;
-      // Grow back after cuts, never beyond the user's step.
-      if (++successes_since_cut >= 2 && step < options.dq) {
-        step = std::min(options.dq, 2.0 * step);
-        successes_since_cut = 0;
+      if (step < options.dq) {
+        // Grow back after cuts, to the user's step.
+        if (++successes_since_cut >= 2) {
+          step = std::min(options.dq, 2.0 * step);
+          successes_since_cut = 0;
+        }
+      } else if (event_free && step < step_max) {
+        step = std::min(step_max, 2.0 * step);  // no event: a longer step (step_growth > 1)
+      } else if (!event_free) {
+        step = options.dq;
       }
       continue;
     }

@@ -43,6 +43,13 @@ struct Q1Options {
   double dq_min = 1e-7;  // step floor: q1 is bracketed to [q, q + 2 dq_min) at worst
   Control control = Control::stress;
   int max_steps = 1000000;
+  // Step control between status events (issue #18 item 3). 1: every step is dq (cut near q1).
+  // N > 1: after a step in which no contact changed status and none opened or closed, the next
+  // step doubles, up to N dq; a longer step that meets a status event is not taken but tried
+  // again at dq, so events are resolved at the user's step and the path is that of fixed steps
+  // up to the geometric change inside event-free steps. The states at multiples of dq inside a
+  // long step are written by linear interpolation (CurvePoint::interpolated).
+  int step_growth = 1;
   double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
   // Log the Hill indicator at the start and at every hill_every-th accepted state (0: never). It
   // is an indicator only: no decision depends on it, so the path is the same at any stride.
@@ -78,6 +85,9 @@ struct CurvePoint {
   int negative_eigenvalues = 0;  // real negative eigenvalues of that K (-1: not counted)
   int newton_iterations = 0;
   int new_contacts = 0;
+  // A state at a multiple of dq inside a longer event-free step (Q1Options::step_growth): the
+  // linear interpolation of the accepted states on both sides, not a computed equilibrium.
+  bool interpolated = false;
 };
 
 struct SlidingContact {
