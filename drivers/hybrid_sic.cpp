@@ -127,7 +127,8 @@ SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObser
   for (int interval = 0;; ++interval) {
     // The static interval from `current` (the sample, or the last MD equilibrium) to its loss of
     // stability. A start the static solver refuses (broken geometry, out of equilibrium beyond
-    // the §3.1 tolerances) hands the next increment to the engine, like an unstable one.
+    // the §3.1 tolerances, a polish that does not converge) hands the next increment to the
+    // engine, like an unstable one.
     const auto t_static = Clock::now();
     StabilityInterval iv;
     iv.q_start = q;
@@ -165,7 +166,11 @@ SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObser
       const std::vector<char> trapped = crosscheck::overlapping_rattlers(s.network_at_q1, from);
       freed = static_cast<int>(std::count(trapped.begin(), trapped.end(), 1));
       if (freed > 0) crosscheck::push_out_rattlers(from, trapped);
-    } catch (const std::invalid_argument& e) {
+    } catch (const std::exception& e) {
+      // The user's sample was validated by the caller: its errors are the caller's to report.
+      // An MD equilibrium the static solver cannot take (validation, or a polish that does not
+      // converge near a rearrangement) is the engine's to continue.
+      if (interval == 0) throw;
       iv.q_end = q;
       iv.eps2_end = iv.eps2_start;
       iv.end = std::string("start refused: ") + e.what();
