@@ -2,7 +2,8 @@
 // equilibrium sample given on the command line, either every increment by MD or, with --hybrid,
 // by static stepping inside the stability intervals and MD across the rearrangements (issue #24,
 // drivers/hybrid_sic.hpp). Writes DIR/sic_curve.csv, DIR/sic.json and the force networks before
-// and after the largest rearrangements, all atomically once the run has ended.
+// and after the largest rearrangements, all atomically once the run has ended; DIR/sic.checkpoint
+// at every MD equilibrium, from which the same command line continues after a kill.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -22,9 +23,12 @@
 #include "common/progress.hpp"
 #include "common/run_config.hpp"
 #include "crosscheck.hpp"
+#include "dynamic/protocols/checkpoint.hpp"
+#include "dynamic/protocols/run_guard.hpp"
 #include "dynamic/protocols/settings.hpp"
 #include "hybrid_sic.hpp"
 #include "python_script.hpp"
+#include "resumable.hpp"
 #include "static_start.hpp"
 
 namespace granstab::cli {
@@ -205,7 +209,7 @@ void add_sic_options(CLI::App& cmd, SicCommandOptions& o) {
   add_static_start_options(cmd, o.start, false);
 }
 
-void run_sic_command(SicCommandOptions& o) {
+void run_sic_command(SicCommandOptions& o, const std::string& arguments) {
   split_material_settings(o.overrides, o.start);
   RunConfig rc = protocols::Invocation::from_arguments("sic", {}, o.overrides).settings_config();
   o.run.engine = protocols::read_engine_options(rc);
@@ -224,7 +228,33 @@ void run_sic_command(SicCommandOptions& o) {
     std::snprintf(detail, sizeof detail, "q %.5f  %s", q, hybrid::method_name(m));
     progress.update(std::max(eps2, 0.0), detail);
   };
-  const hybrid::SicResult r = hybrid::run_sic(from, o.run, observer);
+  // Restart points (every MD equilibrium that does not end the run) go to DIR/sic.checkpoint; a
+  // run started again with the same arguments continues from the last one.
+  const std::filesystem::path checkpoint_path = dir / "sic.checkpoint";
+  protocols::remove_stale_temporaries({checkpoint_path});
+  const std::string input_checksum = protocols::file_checksum(o.sample);
+  std::optional<hybrid::SicRestart> resume;
+  if (std::filesystem::exists(checkpoint_path)) {
+    const protocols::Checkpoint c = protocols::Checkpoint::read(checkpoint_path);
+    if (c.text("sic.arguments") != arguments || c.text("sic.input_checksum") != input_checksum)
+      throw std::invalid_argument(checkpoint_path.string() +
+                                  ": the checkpoint of another run (other arguments or sample); "
+                                  "remove it or choose another --out");
+    resume = hybrid::get_restart(c);
+    if (!o.start.quiet)
+      std::fprintf(stderr, "sic: continuing from %s at q = %.6g\n", checkpoint_path.c_str(),
+                   resume->q);
+  }
+  const auto save = [&](const hybrid::SicRestart& point) {
+    protocols::Checkpoint c;
+    c.set("sic.arguments", arguments);
+    c.set("sic.input_checksum", input_checksum);
+    hybrid::put_restart(c, point, static_cast<std::size_t>(o.pictures));
+    std::filesystem::create_directories(dir);
+    c.write(checkpoint_path);
+  };
+  const hybrid::SicResult r =
+      hybrid::run_sic(from, o.run, observer, save, resume ? &*resume : nullptr);
   char done[96];
   std::snprintf(done, sizeof done, "%s: %zu states, %zu rearrangements", r.stop_reason.c_str(),
                 r.curve.size(), r.rearrangements.size());
@@ -243,6 +273,7 @@ void run_sic_command(SicCommandOptions& o) {
   files.emplace_back("sic.json", sic_json(o, start, r, pictured));  // last: marks a whole run
   std::filesystem::create_directories(dir);
   for (const auto& [name, text] : files) write_file_atomically(dir / name, text);
+  std::filesystem::remove(checkpoint_path);  // the run is complete
   std::printf(
       "%s SIC: %s at q = %.6g, epsilon_2 = %.6g; %zu states (%d static), %zu "
       "rearrangements, %llu MD steps; %.3g s static + %.3g s MD; outputs in %s\n",
@@ -265,7 +296,15 @@ void add_sic_command(CLI::App& app) {
       "or with --hybrid static stepping inside stability intervals and MD across rearrangements; "
       "writes DIR/sic_curve.csv and DIR/sic.json");
   add_sic_options(*cmd, *o);
-  cmd->callback([o] { run_sic_command(*o); });
+  cmd->callback([o] {
+    // The arguments that decide the run (not --quiet, --plot), kept in its checkpoint.
+    std::string arguments;
+    const std::vector<std::string>& line = command_line();
+    const auto at = std::find(line.begin(), line.end(), "sic");
+    for (auto a = at == line.end() ? at : at + 1; a < line.end(); ++a)
+      if (*a != "--quiet" && *a != "--plot") arguments += *a + '\n';
+    run_sic_command(*o, arguments);
+  });
 }
 
 }  // namespace granstab::cli

@@ -1,13 +1,16 @@
 #include "hybrid_sic.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
+#include "common/io/csv_writer.hpp"
 #include "common/measurements.hpp"
 #include "common/start_state.hpp"
 #include "dynamic/protocols/biaxial.hpp"
@@ -80,15 +83,18 @@ std::string failure_reason(const protocols::EquilibrationResult& r) {
 
 bool beyond_q_max(double q, const SicOptions& o) { return q > o.q_max * (1.0 + 1e-12); }
 
-SicResult pure_dynamic(const Configuration& start, const SicOptions& o,
-                       const SicObserver& observer) {
-  SicResult result;
+SicResult pure_dynamic(const Configuration& start, const SicOptions& o, const SicObserver& observer,
+                       const RestartObserver& on_restart_point, const SicRestart* resume) {
+  SicResult result = resume ? resume->so_far : SicResult{};
+  const double seconds_before = result.dynamic_seconds;
   const auto t0 = Clock::now();
   const double pressure = start.stage.sigma_ext[0];
-  Engine engine(start, o.engine);
-  protocols::begin_biaxial_stage(engine, start.material, pressure);
+  // An exported equilibrium continues to the bit (docs/dynamic.md, "Determinism"): its stage is
+  // the biaxial one already.
+  Engine engine(resume ? resume->current : start, o.engine);
+  if (!resume) protocols::begin_biaxial_stage(engine, start.material, pressure);
   Configuration state;
-  for (int k = 0;; ++k) {
+  for (int k = resume ? resume->next : 0;; ++k) {
     const double q = k * o.dq;  // from k, not accumulated: no drift of the targets
     if (beyond_q_max(q, o)) {
       result.stop_reason = "q_max";
@@ -105,16 +111,21 @@ SicResult pure_dynamic(const Configuration& start, const SicOptions& o,
       result.stop_reason = "epsilon_2_end";
       break;
     }
+    if (on_restart_point) {
+      result.dynamic_seconds = seconds_before + seconds_since(t0);
+      on_restart_point({state, q, k + 1, result});
+    }
   }
   result.final_state = state;
-  result.dynamic_seconds = seconds_since(t0);
+  result.dynamic_seconds = seconds_before + seconds_since(t0);
   return result;
 }
 
-SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObserver& observer) {
-  SicResult result;
+SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObserver& observer,
+                 const RestartObserver& on_restart_point, const SicRestart* resume) {
+  SicResult result = resume ? resume->so_far : SicResult{};
   const double pressure = start.stage.sigma_ext[0];
-  Configuration current = start;
+  Configuration current = resume ? resume->current : start;
   statics::Q1Options so = o.statics;
   so.dq = o.dq;
   so.control = statics::Control::stress;
@@ -123,8 +134,8 @@ SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObser
     if (observer) observer(p.load, p.eps2, Method::static_stepping);
     return p.eps2 >= o.epsilon_2_end;
   };
-  double q = start.stage.sigma_ext[1] / pressure - 1.0;
-  for (int interval = 0;; ++interval) {
+  double q = resume ? resume->q : start.stage.sigma_ext[1] / pressure - 1.0;
+  for (int interval = resume ? resume->next : 0;; ++interval) {
     // The static interval from `current` (the sample, or the last MD equilibrium) to its loss of
     // stability. A start the static solver refuses (broken geometry, out of equilibrium beyond
     // the §3.1 tolerances, a polish that does not converge) hands the next increment to the
@@ -219,6 +230,7 @@ SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObser
       result.stop_reason = "epsilon_2_end";
       break;
     }
+    if (on_restart_point) on_restart_point({current, q, interval + 1, result});
   }
   result.final_state = std::move(current);
   return result;
@@ -231,13 +243,158 @@ const char* method_name(Method m) { return m == Method::static_stepping ? "stati
 double next_increment(double q, double dq) { return (std::floor(q / dq + 1e-9) + 1.0) * dq; }
 
 SicResult run_sic(const Configuration& start, const SicOptions& options,
-                  const SicObserver& observer) {
+                  const SicObserver& observer, const RestartObserver& on_restart_point,
+                  const SicRestart* resume) {
   if (!(options.dq > 0.0)) throw std::invalid_argument("sic: dq must be > 0");
   if (!(options.epsilon_2_end > 0.0) && !std::isfinite(options.q_max))
     throw std::invalid_argument("sic: give a finite q_max or epsilon_2_end > 0");
   if (!(start.stage.sigma_ext[0] > 0.0))
     throw std::invalid_argument("sic: the start's sigma_ext[0] must be > 0");
-  return options.hybrid ? hybrid(start, options, observer) : pure_dynamic(start, options, observer);
+  return options.hybrid ? hybrid(start, options, observer, on_restart_point, resume)
+                        : pure_dynamic(start, options, observer, on_restart_point, resume);
+}
+
+namespace {
+
+// One line of numbers per record, shortest round-trip decimals.
+template <typename... T>
+std::string record_line(T... values) {
+  std::string line;
+  ((line += csv_number(static_cast<double>(values)) + ' '), ...);
+  line.back() = '\n';
+  return line;
+}
+
+std::vector<std::vector<double>> parse_records(const protocols::Checkpoint& c,
+                                               std::string_view name, std::size_t fields) {
+  std::vector<std::vector<double>> out;
+  std::istringstream in(c.text(name));
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::vector<double> v;
+    for (std::string w; words >> w;) {
+      double x = 0.0;
+      const auto r = std::from_chars(w.data(), w.data() + w.size(), x);
+      if (r.ec != std::errc() || r.ptr != w.data() + w.size())
+        throw std::runtime_error(c.source_name() + ": entry " + std::string(name) +
+                                 ": not a number: " + w);
+      v.push_back(x);
+    }
+    if (v.size() != fields)
+      throw std::runtime_error(c.source_name() + ": entry " + std::string(name) + ": expected " +
+                               std::to_string(fields) + " numbers a line");
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+}  // namespace
+
+void put_restart(protocols::Checkpoint& c, const SicRestart& r, std::size_t keep) {
+  const SicResult& s = r.so_far;
+  c.set_configuration("sic.current", r.current);
+  c.set_number("sic.q", r.q);
+  c.set_count("sic.next", static_cast<std::uint64_t>(r.next));
+  c.set_count("sic.md_steps", s.md_steps);
+  c.set_count("sic.static_states", static_cast<std::uint64_t>(s.static_states));
+  c.set_number("sic.static_seconds", s.static_seconds);
+  c.set_number("sic.dynamic_seconds", s.dynamic_seconds);
+  std::string curve, intervals, ends, jumps;
+  for (const SicPoint& p : s.curve)
+    curve += record_line(p.method == Method::static_stepping ? 1 : 0, p.q_target, p.q, p.eps1,
+                         p.eps2, p.epsv, p.n_sliding, p.interval, p.md_steps, p.on_grid, p.reached,
+                         p.interpolated);
+  for (const StabilityInterval& v : s.intervals) {
+    intervals += record_line(v.q_start, v.q_end, v.eps2_start, v.eps2_end, v.states,
+                             v.polish_strain, v.polish_displacement);
+    std::string end = v.end;
+    std::replace(end.begin(), end.end(), '\n', ' ');
+    ends += end + '\n';
+  }
+  // The states of the `keep` largest jumps so far: no other can be among the largest at the end.
+  std::vector<std::size_t> order(s.rearrangements.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  const auto jump = [&](std::size_t k) {
+    return std::abs(s.rearrangements[k].eps2_after - s.rearrangements[k].eps2_before);
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return jump(a) > jump(b); });
+  std::vector<char> kept(order.size(), 0);
+  for (std::size_t n = 0; n < order.size() && n < keep; ++n) kept[order[n]] = 1;
+  for (std::size_t k = 0; k < s.rearrangements.size(); ++k) {
+    const Rearrangement& j = s.rearrangements[k];
+    const bool states = kept[k] && !j.before.disks.empty();
+    jumps += record_line(j.q_from, j.q_to, j.eps2_before, j.eps2_after, j.md_steps,
+                         j.rattlers_freed, j.reached, states);
+    if (states) {
+      c.set_configuration("sic.jump." + std::to_string(k) + ".before", j.before);
+      c.set_configuration("sic.jump." + std::to_string(k) + ".after", j.after);
+    }
+  }
+  c.set("sic.curve", curve);
+  c.set("sic.intervals", intervals);
+  c.set("sic.interval_ends", ends);
+  c.set("sic.rearrangements", jumps);
+}
+
+SicRestart get_restart(const protocols::Checkpoint& c) {
+  SicRestart r;
+  SicResult& s = r.so_far;
+  r.current = c.configuration("sic.current");
+  r.q = c.number("sic.q");
+  r.next = static_cast<int>(c.count("sic.next"));
+  s.md_steps = c.count("sic.md_steps");
+  s.static_states = static_cast<int>(c.count("sic.static_states"));
+  s.static_seconds = c.number("sic.static_seconds");
+  s.dynamic_seconds = c.number("sic.dynamic_seconds");
+  for (const auto& v : parse_records(c, "sic.curve", 12)) {
+    SicPoint p;
+    p.method = v[0] != 0.0 ? Method::static_stepping : Method::dynamics;
+    p.q_target = v[1];
+    p.q = v[2];
+    p.eps1 = v[3];
+    p.eps2 = v[4];
+    p.epsv = v[5];
+    p.n_sliding = static_cast<int>(v[6]);
+    p.interval = static_cast<int>(v[7]);
+    p.md_steps = static_cast<std::uint64_t>(v[8]);
+    p.on_grid = v[9] != 0.0;
+    p.reached = v[10] != 0.0;
+    p.interpolated = v[11] != 0.0;
+    s.curve.push_back(p);
+  }
+  std::istringstream ends(c.text("sic.interval_ends"));
+  for (const auto& v : parse_records(c, "sic.intervals", 7)) {
+    StabilityInterval iv;
+    iv.q_start = v[0];
+    iv.q_end = v[1];
+    iv.eps2_start = v[2];
+    iv.eps2_end = v[3];
+    iv.states = static_cast<int>(v[4]);
+    iv.polish_strain = v[5];
+    iv.polish_displacement = v[6];
+    if (!std::getline(ends, iv.end))
+      throw std::runtime_error(c.source_name() + ": entry sic.interval_ends: too few lines");
+    s.intervals.push_back(iv);
+  }
+  const auto records = parse_records(c, "sic.rearrangements", 8);
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const auto& v = records[k];
+    Rearrangement j;
+    j.q_from = v[0];
+    j.q_to = v[1];
+    j.eps2_before = v[2];
+    j.eps2_after = v[3];
+    j.md_steps = static_cast<std::uint64_t>(v[4]);
+    j.rattlers_freed = static_cast<int>(v[5]);
+    j.reached = v[6] != 0.0;
+    if (v[7] != 0.0) {
+      j.before = c.configuration("sic.jump." + std::to_string(k) + ".before");
+      j.after = c.configuration("sic.jump." + std::to_string(k) + ".after");
+    }
+    s.rearrangements.push_back(std::move(j));
+  }
+  return r;
 }
 
 }  // namespace granstab::hybrid

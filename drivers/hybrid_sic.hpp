@@ -16,6 +16,7 @@
 
 #include "common/configuration.hpp"
 #include "dynamic/engine.hpp"
+#include "dynamic/protocols/checkpoint.hpp"
 #include "dynamic/protocols/equilibration.hpp"
 #include "static/q1.hpp"
 
@@ -87,10 +88,30 @@ struct SicResult {
 // Called after every static state and every MD check: (q, epsilon_2, method) for progress lines.
 using SicObserver = std::function<void(double q, double eps2, Method method)>;
 
+// Where a run stands after an MD equilibrium that does not end it (a restart point): all that a
+// restart needs to continue to the bit. Rearrangements keep their `before` / `after` states only
+// while they are among the `keep` largest jumps so far (the ones that can still be pictured).
+struct SicRestart {
+  Configuration current;  // that equilibrium
+  double q = 0.0;         // its prescribed q
+  int next = 0;           // the next interval (hybrid) or increment (dynamic)
+  SicResult so_far;       // final_state and stop_reason unset
+};
+using RestartObserver = std::function<void(const SicRestart&)>;
+
 // The biaxial SIC from `start` (an equilibrium under isotropic stress control, strains measured
 // from its lengths: crosscheck::biaxial_start). Throws std::invalid_argument on bad options.
+// on_restart_point sees every restart point; with `resume` (one of them, of a run with the same
+// start and options) the run continues from there and ends with the bits of an uninterrupted
+// run (seconds aside).
 SicResult run_sic(const Configuration& start, const SicOptions& options,
-                  const SicObserver& observer = {});
+                  const SicObserver& observer = {}, const RestartObserver& on_restart_point = {},
+                  const SicRestart* resume = nullptr);
+
+// A restart point in checkpoint entries named sic.*, keeping the states of the `keep` largest
+// jumps, and back (throws std::runtime_error naming the checkpoint on a damaged entry).
+void put_restart(protocols::Checkpoint& checkpoint, const SicRestart& restart, std::size_t keep);
+SicRestart get_restart(const protocols::Checkpoint& checkpoint);
 
 // The next SIC target above q: the smallest k dq > q (to round-off 1e-9 dq).
 double next_increment(double q, double dq);

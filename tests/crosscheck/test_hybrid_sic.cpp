@@ -15,6 +15,7 @@
 #include "common/io/configuration_file.hpp"
 #include "common/measurements.hpp"
 #include "crosscheck.hpp"
+#include "dynamic/protocols/checkpoint.hpp"
 #include "dynamic/protocols/equilibration.hpp"
 #include "stability_probe.hpp"
 
@@ -179,6 +180,54 @@ TEST(HybridSic, PureDynamicRouteIsTheCompareDynamicHalf) {
     EXPECT_EQ(r.curve[k].md_steps, d.curve[k].steps) << k;
   }
   EXPECT_TRUE(r.rearrangements.empty());
+}
+
+// A restart point through the checkpoint text and back.
+hybrid::SicRestart round_trip(const hybrid::SicRestart& r) {
+  protocols::Checkpoint c;
+  hybrid::put_restart(c, r, 2);
+  return hybrid::get_restart(protocols::Checkpoint::parse(c.format(), "test"));
+}
+
+void expect_same_curve(const hybrid::SicResult& a, const hybrid::SicResult& b) {
+  ASSERT_EQ(a.curve.size(), b.curve.size());
+  for (std::size_t k = 0; k < a.curve.size(); ++k) {
+    EXPECT_EQ(a.curve[k].method, b.curve[k].method) << k;
+    EXPECT_EQ(a.curve[k].q_target, b.curve[k].q_target) << k;
+    EXPECT_EQ(a.curve[k].eps2, b.curve[k].eps2) << k;
+    EXPECT_EQ(a.curve[k].epsv, b.curve[k].epsv) << k;
+    EXPECT_EQ(a.curve[k].md_steps, b.curve[k].md_steps) << k;
+  }
+  EXPECT_EQ(a.md_steps, b.md_steps);
+  EXPECT_EQ(a.static_states, b.static_states);
+  EXPECT_EQ(a.stop_reason, b.stop_reason);
+  ASSERT_EQ(a.intervals.size(), b.intervals.size());
+  for (std::size_t k = 0; k < a.intervals.size(); ++k) {
+    EXPECT_EQ(a.intervals[k].q_end, b.intervals[k].q_end) << k;
+    EXPECT_EQ(a.intervals[k].end, b.intervals[k].end) << k;
+  }
+  ASSERT_EQ(a.rearrangements.size(), b.rearrangements.size());
+  for (std::size_t k = 0; k < a.rearrangements.size(); ++k)
+    EXPECT_EQ(a.rearrangements[k].eps2_after, b.rearrangements[k].eps2_after) << k;
+}
+
+// A run continued from any restart point, through the checkpoint text, ends with the bits of the
+// uninterrupted run: the hybrid from its second hand-over back to the static stepping, the pure
+// dynamic route from its third increment.
+TEST(HybridSic, RestartPointsContinueToTheBit) {
+  for (const bool hybrid_route : {true, false}) {
+    hybrid::SicOptions o = options();
+    o.hybrid = hybrid_route;
+    if (!hybrid_route) o.q_max = 0.05;
+    std::vector<hybrid::SicRestart> points;
+    const hybrid::SicResult whole = hybrid::run_sic(
+        start(), o, {}, [&](const hybrid::SicRestart& r) { points.push_back(round_trip(r)); });
+    ASSERT_GE(points.size(), hybrid_route ? 2u : 3u);
+    const hybrid::SicRestart& from = points[hybrid_route ? 1 : 2];
+    const hybrid::SicResult resumed = hybrid::run_sic(start(), o, {}, {}, &from);
+    expect_same_curve(resumed, whole);
+    EXPECT_EQ(resumed.final_state.disks.x, whole.final_state.disks.x);
+  }
 }
 
 TEST(HybridSic, RefusesBadOptions) {

@@ -96,6 +96,47 @@ TEST(SicCommand, HybridWritesAConsistentCurveJsonAndPictures) {
   }
 }
 
+// Killed (SIGKILL) once its first checkpoint exists, the same command line continues from it and
+// writes the files of an uninterrupted run; other arguments are refused.
+TEST(SicCommand, KilledRunContinuesFromItsCheckpoint) {
+  const Workdir dir("sic-kill");
+  const std::string args = "sic '" + sample.string() +
+                           "' --hybrid --dq 0.01 --epsilon-2-end 0.004 --pictures 1 --quiet --out ";
+  const CommandResult whole = dir.run(args + "whole");
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  // The run, killed as soon as its first checkpoint exists (a script: the command line quotes).
+  const fs::path script = dir.root() / "kill.sh";
+  granstab::testing::spit(
+      script,
+      "cd " + granstab::testing::quoted(dir.path().string()) + "\nOMP_NUM_THREADS=1 " +
+          granstab::testing::quoted(granstab::testing::granstab_exe()) + " " + args +
+          "part &\npid=$!\nwhile kill -0 $pid 2> /dev/null && [ ! -f part/sic.checkpoint ]; "
+          "do sleep 0.002; done\nkill -9 $pid\nwait $pid\nexit 0\n");
+  ASSERT_EQ(std::system(("bash " + granstab::testing::quoted(script.string())).c_str()), 0);
+  ASSERT_TRUE(fs::exists(dir.path() / "part" / "sic.checkpoint"));
+  EXPECT_FALSE(fs::exists(dir.path() / "part" / "sic.json"));
+  const CommandResult other = dir.run(
+      "sic '" + sample.string() + "' --hybrid --dq 0.02 --epsilon-2-end 0.004 --quiet --out part");
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_NE(other.err.find("another run"), std::string::npos) << other.err;
+  const CommandResult rest = dir.run(args + "part");
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "part" / "sic.checkpoint"));
+  EXPECT_EQ(slurp(dir.path() / "part" / "sic_curve.csv"),
+            slurp(dir.path() / "whole" / "sic_curve.csv"));
+  for (const auto& e : fs::directory_iterator(dir.path() / "whole")) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("rearrangement_", 0) == 0) {
+      EXPECT_EQ(slurp(dir.path() / "part" / name), slurp(e.path())) << name;
+    }
+  }
+  const std::string a = slurp(dir.path() / "part" / "sic.json"),
+                    b = slurp(dir.path() / "whole" / "sic.json");
+  for (const char* key :
+       {"states", "rearrangements", "md_steps", "static_states", "epsilon_2_last"})
+    EXPECT_EQ(json_number(a, key), json_number(b, key)) << key;
+}
+
 TEST(SicCommand, BadInputGivesAClearErrorAndNoOutput) {
   const Workdir dir("sic-bad");
   const fs::path& root = dir.path();
