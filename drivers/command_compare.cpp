@@ -115,26 +115,7 @@ void add_options(CLI::App& cmd, CompareCommandOptions& o) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--out", o.out, "output directory")->capture_default_str();
-  cmd.add_option("--force-tolerance", o.run.equilibration.tolerances.force,
-                 "dynamic SPEC 3.1 net-force tolerance (units of aP)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--torque-tolerance", o.run.equilibration.tolerances.torque,
-                 "dynamic SPEC 3.1 net-torque tolerance (units of a^2 P)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--stress-tolerance", o.run.equilibration.tolerances.stress,
-                 "dynamic SPEC 3.1 relative stress tolerance")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--max-steps-per-increment", o.run.equilibration.max_steps,
-                 "MD steps allowed to reach equilibrium after one increment")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--epsilon-2-max", o.run.epsilon_2_max,
-                 "the dynamic run stops when epsilon_2 exceeds this (the sample flows)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  add_md_wait_options(cmd, o.run.equilibration, o.run.epsilon_2_max);
   cmd.add_option("--dynamic-substeps", o.run.dynamic_substeps,
                  "dynamic run: each delta q as N stress steps of delta q / N (a staircase "
                  "ramp), states recorded at multiples of delta q only")

@@ -172,26 +172,7 @@ void add_sic_options(CLI::App& cmd, SicCommandOptions& o) {
       ->check(CLI::PositiveNumber);
   cmd.add_option("--q-max", o.run.q_max, "the run ends at the first equilibrium with q >= this")
       ->check(CLI::PositiveNumber);
-  cmd.add_option("--epsilon-2-max", o.run.epsilon_2_max,
-                 "failure: an MD wait stops when epsilon_2 passes this (the sample flows)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--force-tolerance", o.run.equilibration.tolerances.force,
-                 "SPEC 3.1 net-force tolerance of the MD waits (units of aP)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--torque-tolerance", o.run.equilibration.tolerances.torque,
-                 "SPEC 3.1 net-torque tolerance (units of a^2 P)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--stress-tolerance", o.run.equilibration.tolerances.stress,
-                 "SPEC 3.1 relative stress tolerance")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--max-steps-per-increment", o.run.equilibration.max_steps,
-                 "MD steps allowed to reach equilibrium after one increment")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  add_md_wait_options(cmd, o.run.equilibration, o.run.epsilon_2_max);
   cmd.add_option("--dq-min", o.dq_min,
                  "static step floor: each interval's loss of stability is bracketed to it "
                  "(default dq / 1000)")

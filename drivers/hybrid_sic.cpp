@@ -77,11 +77,21 @@ protocols::EquilibrationResult md_increment(Engine& engine, double q_target, dou
   return protocols::run_to_equilibrium(engine, o.equilibration, state, check);
 }
 
-std::string failure_reason(const protocols::EquilibrationResult& r) {
-  return r.aborted ? "epsilon_2_max" : "no equilibrium";
-}
-
 bool beyond_q_max(double q, const SicOptions& o) { return q > o.q_max * (1.0 + 1e-12); }
+
+// After an MD wait, its state last on the curve: whether it ends the run (a failure, or the
+// epsilon_2 target), with the reason.
+bool ends_run(const protocols::EquilibrationResult& r, const SicOptions& o, SicResult& result) {
+  if (!r.reached) {
+    result.stop_reason = r.aborted ? "epsilon_2_max" : "no equilibrium";
+    return true;
+  }
+  if (result.curve.back().eps2 >= o.epsilon_2_end) {
+    result.stop_reason = "epsilon_2_end";
+    return true;
+  }
+  return false;
+}
 
 SicResult pure_dynamic(const Configuration& start, const SicOptions& o, const SicObserver& observer,
                        const RestartObserver& on_restart_point, const SicRestart* resume) {
@@ -103,14 +113,7 @@ SicResult pure_dynamic(const Configuration& start, const SicOptions& o, const Si
     const auto r = md_increment(engine, q, pressure, o, state, observer);
     result.md_steps += r.steps;
     result.curve.push_back(dynamic_point(state, q, k, r.steps, r.reached, o.dq));
-    if (!r.reached) {
-      result.stop_reason = failure_reason(r);
-      break;
-    }
-    if (result.curve.back().eps2 >= o.epsilon_2_end) {
-      result.stop_reason = "epsilon_2_end";
-      break;
-    }
+    if (ends_run(r, o, result)) break;
     if (on_restart_point) {
       result.dynamic_seconds = seconds_before + seconds_since(t0);
       on_restart_point({state, q, k + 1, result});
@@ -222,14 +225,7 @@ SicResult hybrid(const Configuration& start, const SicOptions& o, const SicObser
     result.rearrangements.push_back(std::move(jump));
     current = std::move(state);
     q = q_next;
-    if (!r.reached) {
-      result.stop_reason = failure_reason(r);
-      break;
-    }
-    if (result.curve.back().eps2 >= o.epsilon_2_end) {
-      result.stop_reason = "epsilon_2_end";
-      break;
-    }
+    if (ends_run(r, o, result)) break;
     if (on_restart_point) on_restart_point({current, q, interval + 1, result});
   }
   result.final_state = std::move(current);

@@ -138,6 +138,30 @@ std::string static_start_json(const StaticStart& start, const std::string& inden
 
 namespace granstab::cli {
 
+void add_md_wait_options(CLI::App& cmd, protocols::EquilibrationOptions& wait,
+                         double& epsilon_2_max) {
+  cmd.add_option("--force-tolerance", wait.tolerances.force,
+                 "dynamic SPEC 3.1 net-force tolerance (units of aP)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--torque-tolerance", wait.tolerances.torque,
+                 "dynamic SPEC 3.1 net-torque tolerance (units of a^2 P)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--stress-tolerance", wait.tolerances.stress,
+                 "dynamic SPEC 3.1 relative stress tolerance")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--max-steps-per-increment", wait.max_steps,
+                 "MD steps allowed to reach equilibrium after one increment")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--epsilon-2-max", epsilon_2_max,
+                 "an MD wait stops when epsilon_2 exceeds this (the sample flows)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+}
+
 void add_step_growth_option(CLI::App& cmd, int& step_growth) {
   cmd.add_option("--step-growth", step_growth,
                  "static steps grow to N dq while no contact changes status; a status event is "

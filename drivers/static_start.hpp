@@ -10,6 +10,7 @@
 
 #include "common/configuration.hpp"
 #include "common/material_override.hpp"
+#include "dynamic/protocols/equilibration.hpp"
 #include "static/q1.hpp"
 
 namespace CLI {
@@ -35,6 +36,11 @@ void add_hill_option(CLI::App& cmd, std::size_t& hill_every);
 // --step-growth N (Q1Options::step_growth): steps up to N dq between contact status events,
 // shared by q1, compare and sic.
 void add_step_growth_option(CLI::App& cmd, int& step_growth);
+
+// --force-tolerance, --torque-tolerance, --stress-tolerance (SPEC §3.1), --max-steps-per-increment
+// and --epsilon-2-max: the MD waits of the SIC increments that compare and sic run.
+void add_md_wait_options(CLI::App& cmd, protocols::EquilibrationOptions& wait,
+                         double& epsilon_2_max);
 
 // --mu, --kt-ratio, --clip-to-cone, --polish, --quiet; and --set material.KEY=VALUE when
 // `with_set` (compare shares its --set with the dynamic settings: it passes the material.* ones

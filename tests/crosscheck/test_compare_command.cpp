@@ -18,22 +18,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using granstab::testing::CommandResult;
+using granstab::testing::json_number;
 using granstab::testing::slurp;
 using granstab::testing::Workdir;
 
 const fs::path sample =
     fs::path(GRANSTAB_SOURCE_DIR) / "data" / "samples" / "periodic-n100-k1e4.granstab";
-
-// The number after "key": in a flat JSON object (NaN when absent or null).
-double json_number(const std::string& json, const std::string& key) {
-  const std::string tag = "\"" + key + "\": ";
-  const std::size_t at = json.find(tag);
-  if (at == std::string::npos) return std::nan("");
-  const char* begin = json.c_str() + at + tag.size();
-  char* end = nullptr;
-  const double v = std::strtod(begin, &end);
-  return end == begin ? std::nan("") : v;
-}
 
 // CSV as rows of columns by name.
 std::vector<std::map<std::string, double>> read_csv(const fs::path& p) {

@@ -18,18 +18,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using granstab::testing::CommandResult;
+using granstab::testing::json_number;
 using granstab::testing::slurp;
 using granstab::testing::Workdir;
 
 const fs::path sample =
     fs::path(GRANSTAB_SOURCE_DIR) / "data" / "samples" / "periodic-n100-k1e4.granstab";
-
-double json_number(const std::string& json, const std::string& key) {
-  const std::string tag = "\"" + key + "\": ";
-  const std::size_t at = json.find(tag);
-  if (at == std::string::npos) return std::nan("");
-  return std::strtod(json.c_str() + at + tag.size(), nullptr);
-}
 
 // The CSV rows as text cells by column name.
 std::vector<std::map<std::string, std::string>> read_rows(const fs::path& p) {

@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -60,6 +61,16 @@ std::vector<std::string> Workdir::files() const {
     names.push_back(fs::relative(e.path(), work_).string());
   }
   return names;
+}
+
+double json_number(const std::string& json, const std::string& key) {
+  const std::string tag = "\"" + key + "\": ";
+  const std::size_t at = json.find(tag);
+  if (at == std::string::npos) return std::nan("");
+  const char* begin = json.c_str() + at + tag.size();
+  char* end = nullptr;
+  const double v = std::strtod(begin, &end);
+  return end == begin ? std::nan("") : v;
 }
 
 }  // namespace granstab::testing

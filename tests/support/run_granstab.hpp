@@ -19,6 +19,9 @@ void spit(const fs::path& p, const std::string& text);
 // quote).
 std::string quoted(const std::string& s);
 
+// The number after "key": in a flat JSON text (NaN when absent or null).
+double json_number(const std::string& json, const std::string& key);
+
 struct CommandResult {
   int exit_code;  // -1 when the command did not exit normally
   std::string out, err;
