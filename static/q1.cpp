@@ -189,8 +189,9 @@ static bool same_statuses(const Network& before, const Network& after) {
 }
 
 // The states at the multiples of dq strictly between two accepted states (from, to], linearly
-// interpolated, marked as such.
-static void interpolate_grid(const CurvePoint& from, const CurvePoint& to, double dq,
+// interpolated, marked as such. `from` by value: it is usually curve.back(), which the appends
+// would invalidate.
+static void interpolate_grid(const CurvePoint from, const CurvePoint& to, double dq,
                              std::vector<CurvePoint>& curve) {
   const double first = std::floor(from.load / dq + 1e-9) + 1.0;
   for (double k = first; k * dq < to.load - 1e-9 * dq; k += 1.0) {
