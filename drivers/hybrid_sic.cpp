@@ -103,7 +103,7 @@ SicResult pure_dynamic(const Configuration& start, const SicOptions& o, const Si
   // the biaxial one already.
   Engine engine(resume ? resume->current : start, o.engine);
   if (!resume) protocols::begin_biaxial_stage(engine, start.material, pressure);
-  Configuration state;
+  Configuration state = resume ? resume->current : start;  // the final state if no wait follows
   for (int k = resume ? resume->next : 0;; ++k) {
     const double q = k * o.dq;  // from k, not accumulated: no drift of the targets
     if (beyond_q_max(q, o)) {
