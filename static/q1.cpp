@@ -23,6 +23,10 @@ const char* criterion_name(Criterion c) {
   return "none";
 }
 
+const char* step_control_name(StepControl s) {
+  return s == StepControl::fixed ? "fixed" : "adaptive";
+}
+
 namespace {
 
 // On the cone to round-off (SPEC §1.1): at a converged state the trial force of a sliding
@@ -62,6 +66,35 @@ PredictorResult check_state(const Network& net, double lambda, double step, cons
   return predict(probe, options, timings, &increment);
 }
 
+// §S3.3 adaptive: the load increment from the state to the first status event along the rate of
+// its check (the statuses of the next increment, the response linear in the load): a sticking
+// contact reaching the cone, or a contact opening. Gaps closing are not predicted (the step then
+// shows the new contact and is redone). The rate is the check's solution for its 1e-6 step, so
+// imposed strains and geometric terms are in it; its round-off (~1e-7 relative) is harmless here.
+double predicted_event(const Network& net, double lambda, double step, const LoadPath& path,
+                       const PredictorResult& check) {
+  if (!check.ok || check.dq.size() != net.dofs.size) return 0.0;
+  Network probe = net;
+  path(probe, lambda + 1e-6 * step);
+  const double dl = (lambda + 1e-6 * step) - lambda;
+  const std::vector<ContactState> s0 = evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
+  const std::vector<ContactState> s1 = evaluate_contacts(probe, check.dq);
+  double t = std::numeric_limits<double>::infinity();
+  const auto reach = [&t](double g0, double g1) {  // g0 + g1 x = 0 with g0 >= 0
+    if (g1 < 0.0) t = std::min(t, std::max(g0, 0.0) / -g1);
+  };
+  for (std::size_t c = 0; c < s0.size() && c < check.statuses.size(); ++c) {
+    if (!(s0[c].f_n > 0.0) || check.statuses[c] == ContactStatus::open) continue;
+    const double b = (s1[c].f_n - s0[c].f_n) / dl;
+    reach(s0[c].f_n, b);
+    if (!s0[c].frictional || check.statuses[c] != ContactStatus::stick) continue;
+    const double a = (s1[c].f_t - s0[c].f_t) / dl;
+    reach(s0[c].mu * s0[c].f_n - s0[c].f_t, s0[c].mu * b - a);
+    reach(s0[c].mu * s0[c].f_n + s0[c].f_t, s0[c].mu * b + a);
+  }
+  return t;
+}
+
 // A rate x (or -x) on the branch of the statuses: every sliding contact keeps sliding (plastic
 // multiplier lambda = -mu dF_N / K_T - s B_T x >= 0). A mode that unloads a sliding contact meets
 // the stiffer sticking response instead, so it is no unstable branch of these statuses.
@@ -92,24 +125,78 @@ bool on_branch(const Network& net, const std::vector<ContactState>& states,
   return false;
 }
 
+// The spectrum of K on the statuses of a check, as far as the criteria and the step control
+// need it.
+struct Spectrum {
+  int negative = 0;    // real negative eigenvalues whose modes stay on the branch (§S3.4 b)
+  int symmetric = -1;  // negative eigenvalues of (K + K^T)/2 (-1: not counted)
+  double nearest_zero = std::numeric_limits<double>::quiet_NaN();  // smallest |eigenvalue| found
+};
+
 // Real negative eigenvalues of K on the statuses of a check whose eigenvectors stay on the branch
 // of those statuses (0 when not counted or unknown: det K alone then decides).
-int negative_real_eigenvalues(const Network& net, const PredictorResult& p, bool count) {
-  if (!count || !p.ok || !p.factor) return 0;
+Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count) {
+  Spectrum out;
+  if (!count || !p.ok || !p.factor) return out;
   const Reduction r = make_reduction(p.kept);
   const NegativeEigenvalues e = negative_eigenvalues(reduce(p.tangent, r), p.factor.get());
-  if (!e.ok) return 0;
+  if (!e.ok) return out;
+  out.symmetric = e.symmetric;
+  out.nearest_zero = e.nearest_zero;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
-  int n = 0;
   for (const Eigen::VectorXd& v : e.modes)
-    n += on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent.rows())));
-  return n;
+    out.negative +=
+        on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent.rows())));
+  return out;
 }
 
 // Stable beyond the state: consistent statuses with det K > 0 and no real negative eigenvalue.
 bool stable(const PredictorResult& p, int negative) {
   return p.ok && p.determinant_sign > 0 && negative == 0;
+}
+
+// §S3.3 adaptive: the step changed no status when no contact closed or left the list and the
+// statuses of its predictor and of the end state's check are those of the start's check.
+bool same_statuses(const PredictorResult& start, const StepResult& s) {
+  return s.new_contacts == 0 && s.predictor.statuses == start.statuses;
+}
+
+// How far beyond a state steps may grow while the stability indicators stay away from 0, from
+// the spectra at the start and end of the step just taken (`taken` long): unbounded where
+// (K + K^T)/2 is positive definite (every real eigenvalue of K is then positive); where it is
+// indefinite, after a step without status change and with its inertia unchanged, half the span
+// in which the eigenvalue of K nearest 0 would reach 0 at its rate over that step (an even pair
+// crossing and coming back inside one step needs that); otherwise, or uncounted, 0: no growth.
+double stable_span(const Spectrum& start, const Spectrum& end, bool quiet, double taken) {
+  if (end.symmetric == 0) return std::numeric_limits<double>::infinity();
+  if (!quiet || start.symmetric < 0 || end.symmetric != start.symmetric) return 0.0;
+  const double rate = std::abs(end.nearest_zero - start.nearest_zero) / taken;
+  if (!(end.nearest_zero > 0.0) || !std::isfinite(rate)) return 0.0;
+  return rate > 0.0 ? 0.5 * end.nearest_zero / rate : std::numeric_limits<double>::infinity();
+}
+
+// The rows at the multiples of dq strictly inside a step without status change (lo to hi):
+// linear interpolation of the measured columns, marked as such.
+void add_interpolated_rows(StabilityResult& result, const CurvePoint& lo, const CurvePoint& hi,
+                           double lambda0, double dq) {
+  const double first = std::floor((lo.load - lambda0) / dq + 1e-6) + 1.0;
+  for (double k = first; lambda0 + k * dq < hi.load - 1e-6 * dq; k += 1.0) {
+    CurvePoint p = lo;
+    p.load = lambda0 + k * dq;
+    const double w = (p.load - lo.load) / (hi.load - lo.load);
+    const auto at = [w](double a, double b) { return a + w * (b - a); };
+    p.q = at(lo.q, hi.q);
+    p.eps1 = at(lo.eps1, hi.eps1);
+    p.eps2 = at(lo.eps2, hi.eps2);
+    p.epsv = at(lo.epsv, hi.epsv);
+    p.hill = std::numeric_limits<double>::quiet_NaN();
+    p.newton_iterations = 0;
+    p.new_contacts = 0;
+    p.interpolated = true;
+    result.curve.push_back(p);
+    ++result.interpolated_rows;
+  }
 }
 
 std::string even_crossing_detail(int negative, const char* where) {
@@ -186,6 +273,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   if (!(options.dq > 0.0) || !(options.dq_min > 0.0) || options.dq_min > options.dq)
     throw std::invalid_argument("Q1Options: need 0 < dq_min <= dq");
   StabilityResult result;
+  result.step_control = options.steps;
   // Deferred factorisations are preconditioned by earlier ones: start every run from none, so
   // that a run gives the same bits whatever ran before it in this thread.
   forget_factorisations();
@@ -203,16 +291,17 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
   if (check.unbalanced_rotations)
     check = check_state(net, lambda, step, path, exact, &result.timings);
-  int negative = negative_real_eigenvalues(net, check, options.count_negative_eigenvalues);
+  Spectrum spectrum = spectrum_of(net, check, options.count_negative_eigenvalues);
+  int negative = spectrum.negative;
   point.determinant_sign = check.determinant_sign;
   point.negative_eigenvalues = negative;
   HillResult hill_last;
+  int states = 0;  // accepted states in the curve (not the interpolated rows)
   // Logged at the start and at every hill_every-th accepted state after it.
-  auto hill_due = [&] {
-    return options.hill_every > 0 && result.curve.size() % options.hill_every == 0;
-  };
+  auto hill_due = [&] { return options.hill_every > 0 && states % options.hill_every == 0; };
   if (hill_due()) point.hill = hill_of(net, hill_last);
   result.curve.push_back(point);
+  ++states;
   Criterion failure = Criterion::none;
   std::string detail;
   if (!stable(check, negative)) {
@@ -232,11 +321,17 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   int attempts = 0;
   const auto report_progress = [&](double at) {
     if (options.on_progress)
-      options.on_progress({at, static_cast<int>(result.curve.size()), attempts,
-                           result.curve.back().n_sliding, step});
+      options.on_progress({at, states, attempts, result.curve.back().n_sliding, step});
   };
   report_progress(lambda);
 
+  const double dq = options.dq;
+  const bool adaptive = options.steps == StepControl::adaptive;
+  // Above dq (a relative margin: loads are sums of steps) a step must change no status.
+  const double dq_above = dq * (1.0 + 1e-9);
+  const double max_step = adaptive ? std::max(1.0, options.max_step_factor) * dq : dq;
+  const double inf = std::numeric_limits<double>::infinity();
+  double event_below = inf;  // adaptive: a status change is known to happen below this load
   int successes_since_cut = 0;
   std::vector<char> beyond;  // contacts the latest failed attempt made slide
   // A status set with floppy rotations out of balance has no solution, like any inconsistent set:
@@ -254,12 +349,20 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     bool accepted = false;
     bool unbalanced = s.predictor.unbalanced_rotations;
     beyond = s.predictor.ever_sliding;
-    if (s.ok) {
+    Spectrum next;
+    const bool big = step > dq_above;
+    if (s.ok && big && !same_statuses(last_check, s)) {
+      detail = "status change in a step above dq";  // redone at dq below, no check needed
+    } else if (s.ok) {
       rebuild_degrees_of_freedom(trial);
       check = check_state(trial, lambda + step, step, path, solver, &result.timings);
       unbalanced = check.unbalanced_rotations;
-      negative = negative_real_eigenvalues(trial, check, options.count_negative_eigenvalues);
-      if (stable(check, negative)) {
+      next = spectrum_of(trial, check, options.count_negative_eigenvalues);
+      negative = next.negative;
+      if (big && check.ok && check.statuses != last_check.statuses) {
+        detail = "status change in a step above dq";
+        beyond.clear();
+      } else if (stable(check, negative)) {
         accepted = true;
       } else if (check.ok) {
         failure = Criterion::bifurcation;
@@ -277,6 +380,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     if (accepted) {
       at_floor_exact = false;
       net = std::move(trial);
+      const double step_taken = step;
       lambda += step;
       ++result.steps;
       CurvePoint p = measure(net, lambda, reference_length);
@@ -285,19 +389,51 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
       p.new_contacts = s.new_contacts;
       if (hill_due()) p.hill = hill_of(net, hill_last);
+      if (step_taken > dq_above) add_interpolated_rows(result, result.curve.back(), p, lambda0, dq);
       result.curve.push_back(p);
+      ++states;
       if (options.on_accepted) options.on_accepted(lambda, net);
+      const bool quiet = same_statuses(last_check, s) && check.statuses == last_check.statuses;
+      const double stable_to = adaptive ? stable_span(spectrum, next, quiet, step_taken) : 0.0;
+      const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
+      const double event = grow ? predicted_event(net, lambda, step, path, check) : 0.0;
       last_check = check;
+      spectrum = next;
       report_progress(lambda);
-      // Grow back after cuts, never beyond the user's step.
-      if (++successes_since_cut >= 2 && step < options.dq) {
-        step = std::min(options.dq, 2.0 * step);
+      if (lambda >= event_below - 1e-6 * dq) event_below = inf;  // passed it
+      if (grow) {
+        // Adaptive: up to the multiple of dq before the predicted event (a margin for the
+        // nonlinearity of the path), halfway to an unpredicted one known to lie ahead, not beyond
+        // the first multiple of dq at or past load_stop (where fixed steps end too).
+        double span = std::min({max_step, stable_to, 0.98 * event, 0.5 * (event_below - lambda)});
+        span = std::floor((lambda + span - lambda0) / dq + 1e-6) * dq + lambda0 - lambda;
+        if (options.load_stop < lambda + span)
+          span = std::ceil((options.load_stop - lambda) / dq - 1e-6) * dq;
+        step = std::max(dq, span);
+        successes_since_cut = 0;
+      } else if (step > dq_above) {
+        step = dq;
+        successes_since_cut = 0;
+      } else if (++successes_since_cut >= 2 && step < dq) {
+        // Grow back after cuts, never beyond the user's step.
+        step = std::min(dq, 2.0 * step);
         successes_since_cut = 0;
       }
       continue;
     }
     ++result.rejected[detail];
     report_progress(lambda);
+    if (step > dq_above) {
+      // Adaptive: a step above dq that changed a status the rates did not predict (a gap closing,
+      // the path's nonlinearity) is bisected towards it on the dq grid; one that failed is redone
+      // at dq, so that events and the bracket are resolved as with fixed steps.
+      if (s.ok) event_below = lambda + step;
+      const double half =
+          std::floor((lambda + 0.5 * step - lambda0) / dq + 1e-6) * dq + lambda0 - lambda;
+      step = s.ok ? std::max(dq, half) : dq;
+      successes_since_cut = 0;
+      continue;
+    }
     // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
     if (step * 0.5 < options.dq_min) {
       if (unbalanced && !at_floor_exact) {
@@ -310,6 +446,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       result.detail = detail;
       record_instability(result, net, last_check, beyond);
       result.network_at_q1 = net;
+      result.attempts = attempts;
       return result;
     }
     step *= 0.5;
@@ -320,6 +457,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   result.criterion = Criterion::none;
   result.detail = "stopped while stable";
   result.network_at_q1 = net;
+  result.attempts = attempts;
   return result;
 }
 
@@ -372,10 +510,8 @@ StabilityResult find_q1(const Configuration& config, const Q1Options& options) {
   StabilityResult r = trace_from(config, options);
   // The end of the run for the progress lines, however it ended.
   if (options.on_progress && !r.curve.empty()) {
-    int attempts = r.steps;
-    for (const auto& [detail, count] : r.rejected) attempts += count;
-    options.on_progress({r.curve.back().load, static_cast<int>(r.curve.size()), attempts,
-                         r.curve.back().n_sliding, 0.0, true});
+    options.on_progress(
+        {r.curve.back().load, r.steps + 1, r.attempts, r.curve.back().n_sliding, 0.0, true});
   }
   return r;
 }

@@ -18,6 +18,13 @@ namespace granstab::statics {
 
 enum class Control { stress, strain };
 
+// §S3.3 step control. fixed: steps of dq, halved on failure and grown back to dq. adaptive: the
+// same, and steps beyond dq (doubling up to max_step_factor dq) while accepted steps change no
+// status and the stability indicators stay away from 0; an attempt above dq that changes a status
+// (or fails) is redone at dq, so events are resolved at dq as with fixed steps.
+enum class StepControl { fixed, adaptive };
+const char* step_control_name(StepControl s);
+
 // Which §S3.4 criterion ended the run.
 enum class Criterion {
   none,         // the run stopped at load_stop or max_steps while stable
@@ -40,6 +47,8 @@ struct Q1Options {
   double dq = 1e-3;      // step of the load parameter (q; epsilon_2 under strain control)
   double dq_min = 1e-7;  // step floor: q1 is bracketed to [q, q + 2 dq_min) at worst
   Control control = Control::stress;
+  StepControl steps = StepControl::fixed;
+  double max_step_factor = 32.0;  // adaptive: the largest step, in units of dq
   int max_steps = 1000000;
   double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
   // Log the Hill indicator at the start and at every hill_every-th accepted state (0: never). It
@@ -72,6 +81,9 @@ struct CurvePoint {
   int negative_eigenvalues = 0;  // real negative eigenvalues of that K (-1: not counted)
   int newton_iterations = 0;
   int new_contacts = 0;
+  // A row at a multiple of dq inside an adaptive step that changed no status: the columns above
+  // interpolated linearly between the two accepted states around it (no solve at this load).
+  bool interpolated = false;
 };
 
 struct SlidingContact {
@@ -105,8 +117,11 @@ struct StabilityResult {
   Network network_at_q1;
   StartPolish polish;
   Timings timings;
-  int steps = 0;
-  std::map<std::string, int> rejected;  // attempts cut by step control, by reason
+  int steps = 0;              // accepted steps (the curve's rows that are not interpolated, less 1)
+  int attempts = 0;           // steps tried: accepted + rejected
+  int interpolated_rows = 0;  // rows of curve marked interpolated
+  StepControl step_control = StepControl::fixed;  // the one of the run
+  std::map<std::string, int> rejected;            // attempts cut by step control, by reason
 };
 
 // §S3.0 on net (statics::prepare: rattlers, dofs, the equilibrium polished) and how far it moved.
