@@ -167,4 +167,23 @@ void add_hill_option(CLI::App& cmd, std::size_t& hill_every) {
       "--no-hill", [&hill_every] { hill_every = 0; }, "the same as --hill off");
 }
 
+void add_step_control_option(CLI::App& cmd, statics::Q1Options& options) {
+  cmd.add_option_function<std::string>(
+         "--steps",
+         [&options](const std::string& v) {
+           options.steps =
+               v == "fixed" ? statics::StepControl::fixed : statics::StepControl::adaptive;
+         },
+         std::string("step control: adaptive (steps up to --max-step-factor dq while no contact "
+                     "changes status, rows at the multiples of dq interpolated inside them) or "
+                     "fixed (steps of dq) (default: ") +
+             statics::step_control_name(options.steps) + ")")
+      ->type_name("adaptive|fixed")
+      ->check(CLI::IsMember({"adaptive", "fixed"}));
+  cmd.add_option("--max-step-factor", options.max_step_factor,
+                 "adaptive steps: the largest step in units of dq")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1e6));
+}
+
 }  // namespace granstab::cli

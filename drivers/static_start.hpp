@@ -32,6 +32,10 @@ struct StaticStartOptions {
 // static curve (Q1Options::hill_every), shared by q1 and compare.
 void add_hill_option(CLI::App& cmd, std::size_t& hill_every);
 
+// --steps adaptive|fixed and --max-step-factor X: the step control of the static stepping
+// (Q1Options::steps, max_step_factor), shared by q1 and compare.
+void add_step_control_option(CLI::App& cmd, statics::Q1Options& options);
+
 // --mu, --kt-ratio, --clip-to-cone, --polish, --quiet; and --set material.KEY=VALUE when
 // `with_set` (compare shares its --set with the dynamic settings: it passes the material.* ones
 // on with split_material_settings).
