@@ -156,10 +156,21 @@ bool stable(const PredictorResult& p, int negative) {
   return p.ok && p.determinant_sign > 0 && negative == 0;
 }
 
-// §S3.3 adaptive: the step changed no status when no contact closed or left the list and the
-// statuses of its predictor and of the end state's check are those of the start's check.
+// §S3.3 adaptive: the step changed no status when no contact closed, and its predictor's statuses
+// and those the corrector ended on (each contact's Coulomb return over the whole step) are those
+// of the start's check; the end state's check is compared by the caller. A contact that reached
+// the cone inside the step and slid shows only in the corrector's: the end state's check may
+// find it unloading. (Contacts on the cone at the start that unload stick from the start on.)
 bool same_statuses(const PredictorResult& start, const StepResult& s) {
-  return s.new_contacts == 0 && s.predictor.statuses == start.statuses;
+  if (s.new_contacts != 0 || s.predictor.statuses != start.statuses) return false;
+  const std::vector<ContactState>& end = s.corrector.states;
+  if (end.size() != start.statuses.size()) return false;
+  for (std::size_t c = 0; c < end.size(); ++c) {
+    const bool open = end[c].status == ContactStatus::open;
+    if (open != (start.statuses[c] == ContactStatus::open)) return false;
+    if (!open && end[c].frictional && end[c].status != start.statuses[c]) return false;
+  }
+  return true;
 }
 
 // How far beyond a state steps may grow while the stability indicators stay away from 0, from
@@ -177,12 +188,13 @@ double stable_span(const Spectrum& start, const Spectrum& end, bool quiet, doubl
 }
 
 // The rows at the multiples of dq strictly inside a step without status change (lo to hi):
-// linear interpolation of the measured columns, marked as such.
+// linear interpolation of the measured columns, marked as such; the other columns are hi's (the
+// contacts on the cone at hi are those sliding all along, see same_statuses).
 void add_interpolated_rows(StabilityResult& result, const CurvePoint& lo, const CurvePoint& hi,
                            double lambda0, double dq) {
   const double first = std::floor((lo.load - lambda0) / dq + 1e-6) + 1.0;
   for (double k = first; lambda0 + k * dq < hi.load - 1e-6 * dq; k += 1.0) {
-    CurvePoint p = lo;
+    CurvePoint p = hi;
     p.load = lambda0 + k * dq;
     const double w = (p.load - lo.load) / (hi.load - lo.load);
     const auto at = [w](double a, double b) { return a + w * (b - a); };
@@ -389,7 +401,8 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
       p.new_contacts = s.new_contacts;
       if (hill_due()) p.hill = hill_of(net, hill_last);
-      if (step_taken > dq_above) add_interpolated_rows(result, result.curve.back(), p, lambda0, dq);
+      const CurvePoint before = result.curve.back();  // a copy: the rows go into the same vector
+      if (step_taken > dq_above) add_interpolated_rows(result, before, p, lambda0, dq);
       result.curve.push_back(p);
       ++states;
       if (options.on_accepted) options.on_accepted(lambda, net);
