@@ -47,7 +47,7 @@ struct Q1Options {
   double dq = 1e-3;      // step of the load parameter (q; epsilon_2 under strain control)
   double dq_min = 1e-7;  // step floor: q1 is bracketed to [q, q + 2 dq_min) at worst
   Control control = Control::stress;
-  StepControl steps = StepControl::fixed;
+  StepControl steps = StepControl::adaptive;
   double max_step_factor = 32.0;  // adaptive: the largest step, in units of dq
   int max_steps = 1000000;
   double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
