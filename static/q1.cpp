@@ -437,9 +437,10 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     ++result.rejected[detail];
     report_progress(lambda);
     if (step > dq_above) {
-      // Adaptive: a step above dq that changed a status the rates did not predict (a gap closing,
-      // the path's nonlinearity) is bisected towards it on the dq grid; one that failed is redone
-      // at dq, so that events and the bracket are resolved as with fixed steps.
+      // Adaptive: a step above dq that reached its end but changed a status the rates did not
+      // predict (a gap closing, the path's nonlinearity), or whose end state fails the check, is
+      // bisected towards that on the dq grid; one that found no end state is redone at dq. Events
+      // and the bracket are then resolved from dq as with fixed steps.
       if (s.ok) event_below = lambda + step;
       const double half =
           std::floor((lambda + 0.5 * step - lambda0) / dq + 1e-6) * dq + lambda0 - lambda;
