@@ -97,6 +97,8 @@ int main(int argc, char** argv) {
                                               : statics::StepControl::adaptive;
     if (const char* factor = std::getenv("GRANSTAB_Q1_MAX_STEP_FACTOR"))
       o.max_step_factor = std::atof(factor);
+    // `granstab q1 --stop`: a part of the run (a step control's first states at N = 5600).
+    if (const char* stop = std::getenv("GRANSTAB_Q1_STOP")) o.load_stop = std::atof(stop);
     if (fixed || status_pattern) o.solver.fixed_pattern = fixed;
     if (krylov || exact) o.solver.krylov_solves = krylov;
     const auto t2 = Clock::now();
