@@ -19,9 +19,10 @@ namespace granstab::statics {
 enum class Control { stress, strain };
 
 // §S3.3 step control. fixed: steps of dq, halved on failure and grown back to dq. adaptive: the
-// same, and steps beyond dq (doubling up to max_step_factor dq) while accepted steps change no
-// status and the stability indicators stay away from 0; an attempt above dq that changes a status
-// (or fails) is redone at dq, so events are resolved at dq as with fixed steps.
+// same, and between status events steps beyond dq, to the multiple of dq before the next event
+// predicted from the contact force rates (at most max_step_factor dq), while the stability
+// indicators stay away from 0; an attempt above dq that changes a status is bisected, so events
+// are crossed by steps of dq at most and q1 is bracketed as with fixed steps (docs/static.md).
 enum class StepControl { fixed, adaptive };
 const char* step_control_name(StepControl s);
 
@@ -49,7 +50,7 @@ struct Q1Options {
   Control control = Control::stress;
   StepControl steps = StepControl::adaptive;
   double max_step_factor = 32.0;  // adaptive: the largest step, in units of dq
-  int max_steps = 1000000;
+  int max_steps = 1000000;        // accepted steps (adaptive ones may span several dq)
   double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
   // Log the Hill indicator at the start and at every hill_every-th accepted state (0: never). It
   // is an indicator only: no decision depends on it, so the path is the same at any stride.
