@@ -137,7 +137,7 @@ void add_options(CLI::App& cmd, CompareCommandOptions& o) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   add_hill_option(cmd, o.run.statics.hill_every);
-  add_step_growth_option(cmd, o.run.statics.step_growth);
+  add_step_control_option(cmd, o.run.statics);
   cmd.add_option("--set", o.overrides,
                  "key=value: the dynamic half's engine.dt_fraction, engine.skin, checkpoint.path "
                  "(default OUT/compare.checkpoint), checkpoint.every_steps, "

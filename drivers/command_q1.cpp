@@ -61,7 +61,11 @@ std::string q1_json(const Q1CommandOptions& o, const StaticStart& start,
     << "  \"q_max_rigid_status\": " << json_string(rigid.status) << ",\n"
     << "  \"n_disks\": " << start.config.disks.size() << ",\n"
     << "  \"n_contacts\": " << start.config.contacts.size() << ",\n"
+    << "  \"step_control\": " << json_string(statics::step_control_name(r.step_control)) << ",\n"
+    << "  \"states\": " << r.steps + 1 << ",\n"
     << "  \"steps\": " << r.steps << ",\n"
+    << "  \"attempts\": " << r.attempts << ",\n"
+    << "  \"interpolated_rows\": " << r.interpolated_rows << ",\n"
     << "  \"rejected_steps\": {" <<
       [&] {
         std::string list;
@@ -136,7 +140,7 @@ void add_q1_command(CLI::App& app) {
   cmd->add_option("--stop", options->q1.load_stop,
                   "stop once the load parameter (q, or epsilon_2) passes this value");
   add_hill_option(*cmd, options->q1.hill_every);
-  add_step_growth_option(*cmd, options->q1.step_growth);
+  add_step_control_option(*cmd, options->q1);
   add_static_start_options(*cmd, options->start, true);
   cmd->callback([options] { run_q1(*options); });
 }

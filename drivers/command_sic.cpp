@@ -186,7 +186,7 @@ void add_sic_options(CLI::App& cmd, SicCommandOptions& o) {
   cmd.add_option("--set", o.overrides,
                  "key=value: engine.dt_fraction, engine.skin; material.KEY=VALUE sets the "
                  "biaxial material (KEY: k_n, k_t, mu, zeta, mu_wall)");
-  add_step_growth_option(cmd, o.run.statics.step_growth);
+  add_step_control_option(cmd, o.run.statics);
   add_static_start_options(cmd, o.start, false);
 }
 

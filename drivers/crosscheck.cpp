@@ -116,6 +116,9 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
       m.eps2_static = static_curve[k].eps2;
       m.epsv_static = static_curve[k].epsv;
       m.eps1_static = static_curve[k].eps1;
+      // A row the adaptive step control interpolated inside a step without status change.
+      m.interpolated = static_curve[k].interpolated;
+      out.n_interpolated += m.interpolated;
     } else {
       if (k == 0) continue;
       m.interpolated = true;
@@ -271,6 +274,9 @@ CrosscheckResult run_static_half(const Configuration& sample, const CrosscheckOp
   so.dq_min = std::min(so.dq_min, so.dq);
   so.control = statics::Control::stress;
   so.load_stop = options.q_max;
+  // States handed to other solvers (compare --probe-states, granstab probe) are those of fixed
+  // steps: one at every multiple of dq, where the adaptive control may interpolate rows instead.
+  if (so.on_accepted || options.probe.states > 0) so.steps = statics::StepControl::fixed;
   if (options.probe.states > 0) {
     // compare --probe-states: the probed loads are fractions of q1, known only at the end.
     so.on_accepted = [&states = out.static_states, then = options.statics.on_accepted](
@@ -450,6 +456,10 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"q_max_rigid_status\": " << json_string(o.rigid_limit ? r.rigid.status : "not run")
     << ",\n"
     << "  \"static_steps\": " << r.statics.steps << ",\n"
+    << "  \"static_step_control\": "
+    << json_string(statics::step_control_name(r.statics.step_control)) << ",\n"
+    << "  \"static_attempts\": " << r.statics.attempts << ",\n"
+    << "  \"static_interpolated_rows\": " << r.statics.interpolated_rows << ",\n"
     << "  \"dynamic_increments\": " << r.dynamic.curve.size() << ",\n"
     << "  \"dynamic_stop_reason\": " << json_string(r.dynamic.stop_reason) << ",\n"
     << "  \"dynamic_md_steps\": " << r.dynamic.steps << ",\n"

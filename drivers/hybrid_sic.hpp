@@ -50,7 +50,7 @@ struct SicPoint {
   std::uint64_t md_steps = 0;  // MD steps of this increment (0 for static states)
   bool on_grid = true;         // q_target a multiple of dq (static cuts near q1 are not)
   bool reached = true;         // SPEC §3.1 equilibrium reached (false: the failed last one)
-  bool interpolated = false;   // a static state interpolated inside a longer step (step_growth)
+  bool interpolated = false;   // a static state interpolated inside an adaptive step (Q1Options::steps)
 };
 
 // A stretch of static states: from its start (an MD equilibrium, or the sample) to the last

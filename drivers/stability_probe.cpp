@@ -174,6 +174,7 @@ statics::StabilityResult static_run_to(const Configuration& start, const Crossch
   CrosscheckOptions o = options;
   o.q_max = q - static_load_tolerance(options);
   o.rigid_limit = false;
+  o.statics.steps = statics::StepControl::fixed;  // as every run that hands states on
   // run_static_half starts from biaxial_start(sample): the start is that state already (its
   // reference lengths are its lengths), and biaxial_start of it is itself.
   return run_static_half(start, o).statics;

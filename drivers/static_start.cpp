@@ -162,15 +162,6 @@ void add_md_wait_options(CLI::App& cmd, protocols::EquilibrationOptions& wait,
       ->check(CLI::PositiveNumber);
 }
 
-void add_step_growth_option(CLI::App& cmd, int& step_growth) {
-  cmd.add_option("--step-growth", step_growth,
-                 "static steps grow to N dq while no contact changes status; a status event is "
-                 "stepped at dq; the states at multiples of dq in between are interpolated "
-                 "(1: fixed steps)")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-}
-
 void add_hill_option(CLI::App& cmd, std::size_t& hill_every) {
   cmd.add_option_function<std::string>(
          "--hill",
@@ -198,6 +189,25 @@ void add_hill_option(CLI::App& cmd, std::size_t& hill_every) {
       ->type_name("every|N|off");
   cmd.add_flag_callback(
       "--no-hill", [&hill_every] { hill_every = 0; }, "the same as --hill off");
+}
+
+void add_step_control_option(CLI::App& cmd, statics::Q1Options& options) {
+  cmd.add_option_function<std::string>(
+         "--steps",
+         [&options](const std::string& v) {
+           options.steps =
+               v == "fixed" ? statics::StepControl::fixed : statics::StepControl::adaptive;
+         },
+         std::string("step control: adaptive (steps up to --max-step-factor dq while no contact "
+                     "changes status, rows at the multiples of dq interpolated inside them) or "
+                     "fixed (steps of dq) (default: ") +
+             statics::step_control_name(options.steps) + ")")
+      ->type_name("adaptive|fixed")
+      ->check(CLI::IsMember({"adaptive", "fixed"}));
+  cmd.add_option("--max-step-factor", options.max_step_factor,
+                 "adaptive steps: the largest step in units of dq")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1e6));
 }
 
 }  // namespace granstab::cli

@@ -33,9 +33,9 @@ struct StaticStartOptions {
 // static curve (Q1Options::hill_every), shared by q1 and compare.
 void add_hill_option(CLI::App& cmd, std::size_t& hill_every);
 
-// --step-growth N (Q1Options::step_growth): steps up to N dq between contact status events,
-// shared by q1, compare and sic.
-void add_step_growth_option(CLI::App& cmd, int& step_growth);
+// --steps adaptive|fixed and --max-step-factor X: the step control of the static stepping
+// (Q1Options::steps, max_step_factor), shared by q1, compare and sic.
+void add_step_control_option(CLI::App& cmd, statics::Q1Options& options);
 
 // --force-tolerance, --torque-tolerance, --stress-tolerance (SPEC §3.1), --max-steps-per-increment
 // and --epsilon-2-max: the MD waits of the SIC increments that compare and sic run.

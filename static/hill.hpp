@@ -1,6 +1,7 @@
 #pragma once
 // The Hill indicator of STATIC.md §S3.4 (c): the smallest eigenvalue of (K + K^T)/2. A value <= 0
 // means the second-order work can vanish; it is reported along the curve, not a failure.
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,6 +36,9 @@ struct NegativeEigenvalues {
   int symmetric = -1;                  // negative eigenvalues of (K + K^T)/2 (LDL^T inertia)
   int real = -1;                       // real negative eigenvalues of K
   std::vector<Eigen::VectorXd> modes;  // their (real) eigenvectors, unit length
+  // Smallest |eigenvalue| among those computed (NaN when none were: the symmetric part positive
+  // definite). The step control grows steps only while it stays away from 0 (q1.cpp).
+  double nearest_zero = std::numeric_limits<double>::quiet_NaN();
 };
 // If (K + K^T)/2 has no negative eigenvalue, neither has K (x^T K x = x^T S x > 0 for every real
 // eigenvector x): real = 0 at the cost of one LDL^T. Otherwise the eigenvalues of K nearest 0

@@ -61,6 +61,7 @@ bool dense_real_negative(const SparseMatrix& k, NegativeEigenvalues& out) {
   Eigen::EigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(k), true);
   if (eig.info() != Eigen::Success) return false;
   out.real = 0;
+  out.nearest_zero = eig.eigenvalues().cwiseAbs().minCoeff();
   for (Eigen::Index i = 0; i < eig.eigenvalues().size(); ++i)
     if (real_negative(eig.eigenvalues()[i])) {
       ++out.real;
@@ -142,6 +143,7 @@ NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* 
       out.real = 0;
       const Eigen::VectorXcd values = eigs.eigenvalues();
       const Eigen::MatrixXcd vectors = eigs.eigenvectors();
+      out.nearest_zero = values.cwiseAbs().minCoeff();
       for (Eigen::Index i = 0; i < values.size(); ++i)
         if (real_negative(values[i])) {
           ++out.real;

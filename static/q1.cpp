@@ -23,6 +23,10 @@ const char* criterion_name(Criterion c) {
   return "none";
 }
 
+const char* step_control_name(StepControl s) {
+  return s == StepControl::fixed ? "fixed" : "adaptive";
+}
+
 namespace {
 
 // On the cone to round-off (SPEC §1.1): at a converged state the trial force of a sliding
@@ -62,6 +66,35 @@ PredictorResult check_state(const Network& net, double lambda, double step, cons
   return predict(probe, options, timings, &increment);
 }
 
+// §S3.3 adaptive: the load increment from the state to the first status event along the rate of
+// its check (the statuses of the next increment, the response linear in the load): a sticking
+// contact reaching the cone, or a contact opening. Gaps closing are not predicted (the step then
+// shows the new contact and is redone). The rate is the check's solution for its 1e-6 step, so
+// imposed strains and geometric terms are in it; its round-off (~1e-7 relative) is harmless here.
+double predicted_event(const Network& net, double lambda, double step, const LoadPath& path,
+                       const PredictorResult& check) {
+  if (!check.ok || check.dq.size() != net.dofs.size) return 0.0;
+  Network probe = net;
+  path(probe, lambda + 1e-6 * step);
+  const double dl = (lambda + 1e-6 * step) - lambda;
+  const std::vector<ContactState> s0 = evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
+  const std::vector<ContactState> s1 = evaluate_contacts(probe, check.dq);
+  double t = std::numeric_limits<double>::infinity();
+  const auto reach = [&t](double g0, double g1) {  // g0 + g1 x = 0 with g0 >= 0
+    if (g1 < 0.0) t = std::min(t, std::max(g0, 0.0) / -g1);
+  };
+  for (std::size_t c = 0; c < s0.size() && c < check.statuses.size(); ++c) {
+    if (!(s0[c].f_n > 0.0) || check.statuses[c] == ContactStatus::open) continue;
+    const double b = (s1[c].f_n - s0[c].f_n) / dl;
+    reach(s0[c].f_n, b);
+    if (!s0[c].frictional || check.statuses[c] != ContactStatus::stick) continue;
+    const double a = (s1[c].f_t - s0[c].f_t) / dl;
+    reach(s0[c].mu * s0[c].f_n - s0[c].f_t, s0[c].mu * b - a);
+    reach(s0[c].mu * s0[c].f_n + s0[c].f_t, s0[c].mu * b + a);
+  }
+  return t;
+}
+
 // A rate x (or -x) on the branch of the statuses: every sliding contact keeps sliding (plastic
 // multiplier lambda = -mu dF_N / K_T - s B_T x >= 0). A mode that unloads a sliding contact meets
 // the stiffer sticking response instead, so it is no unstable branch of these statuses.
@@ -92,24 +125,90 @@ bool on_branch(const Network& net, const std::vector<ContactState>& states,
   return false;
 }
 
+// The spectrum of K on the statuses of a check, as far as the criteria and the step control
+// need it.
+struct Spectrum {
+  int negative = 0;    // real negative eigenvalues whose modes stay on the branch (§S3.4 b)
+  int symmetric = -1;  // negative eigenvalues of (K + K^T)/2 (-1: not counted)
+  double nearest_zero = std::numeric_limits<double>::quiet_NaN();  // smallest |eigenvalue| found
+};
+
 // Real negative eigenvalues of K on the statuses of a check whose eigenvectors stay on the branch
 // of those statuses (0 when not counted or unknown: det K alone then decides).
-int negative_real_eigenvalues(const Network& net, const PredictorResult& p, bool count) {
-  if (!count || !p.ok || !p.factor) return 0;
+Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count) {
+  Spectrum out;
+  if (!count || !p.ok || !p.factor) return out;
   const Reduction r = make_reduction(p.kept);
   const NegativeEigenvalues e = negative_eigenvalues(reduce(p.tangent, r), p.factor.get());
-  if (!e.ok) return 0;
+  if (!e.ok) return out;
+  out.symmetric = e.symmetric;
+  out.nearest_zero = e.nearest_zero;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
-  int n = 0;
   for (const Eigen::VectorXd& v : e.modes)
-    n += on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent.rows())));
-  return n;
+    out.negative +=
+        on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent.rows())));
+  return out;
 }
 
 // Stable beyond the state: consistent statuses with det K > 0 and no real negative eigenvalue.
 bool stable(const PredictorResult& p, int negative) {
   return p.ok && p.determinant_sign > 0 && negative == 0;
+}
+
+// §S3.3 adaptive: the step changed no status when no contact closed, and its predictor's statuses
+// and those the corrector ended on (each contact's Coulomb return over the whole step) are those
+// of the start's check; the end state's check is compared by the caller. A contact that reached
+// the cone inside the step and slid shows only in the corrector's: the end state's check may
+// find it unloading. (Contacts on the cone at the start that unload stick from the start on.)
+bool same_statuses(const PredictorResult& start, const StepResult& s) {
+  if (s.new_contacts != 0 || s.predictor.statuses != start.statuses) return false;
+  const std::vector<ContactState>& end = s.corrector.states;
+  if (end.size() != start.statuses.size()) return false;
+  for (std::size_t c = 0; c < end.size(); ++c) {
+    const bool open = end[c].status == ContactStatus::open;
+    if (open != (start.statuses[c] == ContactStatus::open)) return false;
+    if (!open && end[c].frictional && end[c].status != start.statuses[c]) return false;
+  }
+  return true;
+}
+
+// How far beyond a state steps may grow while the stability indicators stay away from 0, from
+// the spectra at the start and end of the step just taken (`taken` long): unbounded where
+// (K + K^T)/2 is positive definite (every real eigenvalue of K is then positive); where it is
+// indefinite, after a step without status change and with its inertia unchanged, half the span
+// in which the eigenvalue of K nearest 0 would reach 0 at its rate over that step (an even pair
+// crossing and coming back inside one step needs that); otherwise, or uncounted, 0: no growth.
+double stable_span(const Spectrum& start, const Spectrum& end, bool quiet, double taken) {
+  if (end.symmetric == 0) return std::numeric_limits<double>::infinity();
+  if (!quiet || start.symmetric < 0 || end.symmetric != start.symmetric) return 0.0;
+  const double rate = std::abs(end.nearest_zero - start.nearest_zero) / taken;
+  if (!(end.nearest_zero > 0.0) || !std::isfinite(rate)) return 0.0;
+  return rate > 0.0 ? 0.5 * end.nearest_zero / rate : std::numeric_limits<double>::infinity();
+}
+
+// The rows at the multiples of dq strictly inside a step without status change (lo to hi):
+// linear interpolation of the measured columns, marked as such; the other columns are hi's (the
+// contacts on the cone at hi are those sliding all along, see same_statuses).
+void add_interpolated_rows(StabilityResult& result, const CurvePoint& lo, const CurvePoint& hi,
+                           double lambda0, double dq) {
+  const double first = std::floor((lo.load - lambda0) / dq + 1e-6) + 1.0;
+  for (double k = first; lambda0 + k * dq < hi.load - 1e-6 * dq; k += 1.0) {
+    CurvePoint p = hi;
+    p.load = lambda0 + k * dq;
+    const double w = (p.load - lo.load) / (hi.load - lo.load);
+    const auto at = [w](double a, double b) { return a + w * (b - a); };
+    p.q = at(lo.q, hi.q);
+    p.eps1 = at(lo.eps1, hi.eps1);
+    p.eps2 = at(lo.eps2, hi.eps2);
+    p.epsv = at(lo.epsv, hi.epsv);
+    p.hill = std::numeric_limits<double>::quiet_NaN();
+    p.newton_iterations = 0;
+    p.new_contacts = 0;
+    p.interpolated = true;
+    result.curve.push_back(p);
+    ++result.interpolated_rows;
+  }
 }
 
 std::string even_crossing_detail(int negative, const char* where) {
@@ -180,44 +279,13 @@ void record_instability(StabilityResult& result, const Network& net, const Predi
 
 }  // namespace
 
-// No contact changed status, opened or closed between two states of a step (same list, same
-// order: advance keeps the order of the contacts that stay and appends the new ones).
-static bool same_statuses(const Network& before, const Network& after) {
-  const Contacts& a = before.contacts;
-  const Contacts& b = after.contacts;
-  return a.i == b.i && a.j == b.j && a.k1 == b.k1 && a.k2 == b.k2 && a.status == b.status;
-}
-
-// The states at the multiples of dq strictly between two accepted states (from, to], linearly
-// interpolated, marked as such. `from` by value: it is usually curve.back(), which the appends
-// would invalidate.
-static void interpolate_grid(const CurvePoint from, const CurvePoint& to, double dq,
-                             std::vector<CurvePoint>& curve) {
-  const double first = std::floor(from.load / dq + 1e-9) + 1.0;
-  for (double k = first; k * dq < to.load - 1e-9 * dq; k += 1.0) {
-    const double t = (k * dq - from.load) / (to.load - from.load);
-    CurvePoint p = to;
-    p.load = k * dq;
-    p.q = from.q + t * (to.q - from.q);
-    p.eps1 = from.eps1 + t * (to.eps1 - from.eps1);
-    p.eps2 = from.eps2 + t * (to.eps2 - from.eps2);
-    p.epsv = from.epsv + t * (to.epsv - from.epsv);
-    p.hill = std::numeric_limits<double>::quiet_NaN();
-    p.newton_iterations = 0;
-    p.new_contacts = 0;
-    p.interpolated = true;
-    curve.push_back(p);
-  }
-}
-
 StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath& path,
                                      const std::array<double, 2>& reference_length,
                                      const Q1Options& options) {
   if (!(options.dq > 0.0) || !(options.dq_min > 0.0) || options.dq_min > options.dq)
     throw std::invalid_argument("Q1Options: need 0 < dq_min <= dq");
-  if (options.step_growth < 1) throw std::invalid_argument("Q1Options: need step_growth >= 1");
-  const double step_max = options.step_growth * options.dq;
   StabilityResult result;
+  result.step_control = options.steps;
   // Deferred factorisations are preconditioned by earlier ones: start every run from none, so
   // that a run gives the same bits whatever ran before it in this thread.
   forget_factorisations();
@@ -235,16 +303,17 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
   if (check.unbalanced_rotations)
     check = check_state(net, lambda, step, path, exact, &result.timings);
-  int negative = negative_real_eigenvalues(net, check, options.count_negative_eigenvalues);
+  Spectrum spectrum = spectrum_of(net, check, options.count_negative_eigenvalues);
+  int negative = spectrum.negative;
   point.determinant_sign = check.determinant_sign;
   point.negative_eigenvalues = negative;
   HillResult hill_last;
+  int states = 0;  // accepted states in the curve (not the interpolated rows)
   // Logged at the start and at every hill_every-th accepted state after it.
-  std::size_t computed = 0;  // states of the curve that are not interpolated
-  auto hill_due = [&] { return options.hill_every > 0 && computed % options.hill_every == 0; };
+  auto hill_due = [&] { return options.hill_every > 0 && states % options.hill_every == 0; };
   if (hill_due()) point.hill = hill_of(net, hill_last);
   result.curve.push_back(point);
-  ++computed;
+  ++states;
   Criterion failure = Criterion::none;
   std::string detail;
   if (!stable(check, negative)) {
@@ -264,11 +333,17 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   int attempts = 0;
   const auto report_progress = [&](double at) {
     if (options.on_progress)
-      options.on_progress({at, static_cast<int>(result.curve.size()), attempts,
-                           result.curve.back().n_sliding, step});
+      options.on_progress({at, states, attempts, result.curve.back().n_sliding, step});
   };
   report_progress(lambda);
 
+  const double dq = options.dq;
+  const bool adaptive = options.steps == StepControl::adaptive;
+  // Above dq (a relative margin: loads are sums of steps) a step must change no status.
+  const double dq_above = dq * (1.0 + 1e-9);
+  const double max_step = adaptive ? std::max(1.0, options.max_step_factor) * dq : dq;
+  const double inf = std::numeric_limits<double>::infinity();
+  double event_below = inf;  // adaptive: a status change is known to happen below this load
   int successes_since_cut = 0;
   std::vector<char> beyond;  // contacts the latest failed attempt made slide
   // A status set with floppy rotations out of balance has no solution, like any inconsistent set:
@@ -286,12 +361,20 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     bool accepted = false;
     bool unbalanced = s.predictor.unbalanced_rotations;
     beyond = s.predictor.ever_sliding;
-    if (s.ok) {
+    Spectrum next;
+    const bool big = step > dq_above;
+    if (s.ok && big && !same_statuses(last_check, s)) {
+      detail = "status change in a step above dq";  // redone at dq below, no check needed
+    } else if (s.ok) {
       rebuild_degrees_of_freedom(trial);
       check = check_state(trial, lambda + step, step, path, solver, &result.timings);
       unbalanced = check.unbalanced_rotations;
-      negative = negative_real_eigenvalues(trial, check, options.count_negative_eigenvalues);
-      if (stable(check, negative)) {
+      next = spectrum_of(trial, check, options.count_negative_eigenvalues);
+      negative = next.negative;
+      if (big && check.ok && check.statuses != last_check.statuses) {
+        detail = "status change in a step above dq";
+        beyond.clear();
+      } else if (stable(check, negative)) {
         accepted = true;
       } else if (check.ok) {
         failure = Criterion::bifurcation;
@@ -302,22 +385,14 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
         detail = "no consistent statuses beyond the bracket: " + check.failure;
       }
       if (!accepted) beyond.clear();  // the failed check ran on another contact list
-      // A step longer than dq that meets a status event is tried again at dq (step_growth).
-      if (accepted && step > options.dq * (1.0 + 1e-12) && !same_statuses(net, trial)) {
-        ++result.rejected["status event in a step longer than dq"];
-        step = options.dq;
-        successes_since_cut = 0;
-        report_progress(lambda);
-        continue;
-      }
     } else {
       failure = Criterion::existence;
       detail = s.failure;
     }
     if (accepted) {
       at_floor_exact = false;
-      const bool event_free = same_statuses(net, trial);
       net = std::move(trial);
+      const double step_taken = step;
       lambda += step;
       ++result.steps;
       CurvePoint p = measure(net, lambda, reference_length);
@@ -325,30 +400,55 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       p.negative_eigenvalues = negative;
       p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
       p.new_contacts = s.new_contacts;
-      if (step > options.dq * (1.0 + 1e-12))
-        interpolate_grid(result.curve.back(), p, options.dq, result.curve);
       if (hill_due()) p.hill = hill_of(net, hill_last);
+      const CurvePoint before = result.curve.back();  // a copy: the rows go into the same vector
+      if (step_taken > dq_above) add_interpolated_rows(result, before, p, lambda0, dq);
       result.curve.push_back(p);
-      ++computed;
+      ++states;
       if (options.on_accepted) options.on_accepted(lambda, net);
-      last_check = check;
-      report_progress(lambda);
       if (options.stop_when && options.stop_when(result.curve.back())) break;
-      if (step < options.dq) {
-        // Grow back after cuts, to the user's step.
-        if (++successes_since_cut >= 2) {
-          step = std::min(options.dq, 2.0 * step);
-          successes_since_cut = 0;
-        }
-      } else if (event_free && step < step_max) {
-        step = std::min(step_max, 2.0 * step);  // no event: a longer step (step_growth > 1)
-      } else if (!event_free) {
-        step = options.dq;
+      const bool quiet = same_statuses(last_check, s) && check.statuses == last_check.statuses;
+      const double stable_to = adaptive ? stable_span(spectrum, next, quiet, step_taken) : 0.0;
+      const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
+      const double event = grow ? predicted_event(net, lambda, step, path, check) : 0.0;
+      last_check = check;
+      spectrum = next;
+      report_progress(lambda);
+      if (lambda >= event_below - 1e-6 * dq) event_below = inf;  // passed it
+      if (grow) {
+        // Adaptive: up to the multiple of dq before the predicted event (a margin for the
+        // nonlinearity of the path), halfway to an unpredicted one known to lie ahead, not beyond
+        // the first multiple of dq at or past load_stop (where fixed steps end too).
+        double span = std::min({max_step, stable_to, 0.98 * event, 0.5 * (event_below - lambda)});
+        span = std::floor((lambda + span - lambda0) / dq + 1e-6) * dq + lambda0 - lambda;
+        if (options.load_stop < lambda + span)
+          span = std::ceil((options.load_stop - lambda) / dq - 1e-6) * dq;
+        step = std::max(dq, span);
+        successes_since_cut = 0;
+      } else if (step > dq_above) {
+        step = dq;
+        successes_since_cut = 0;
+      } else if (++successes_since_cut >= 2 && step < dq) {
+        // Grow back after cuts, never beyond the user's step.
+        step = std::min(dq, 2.0 * step);
+        successes_since_cut = 0;
       }
       continue;
     }
     ++result.rejected[detail];
     report_progress(lambda);
+    if (step > dq_above) {
+      // Adaptive: a step above dq that reached its end but changed a status the rates did not
+      // predict (a gap closing, the path's nonlinearity), or whose end state fails the check, is
+      // bisected towards that on the dq grid; one that found no end state is redone at dq. Events
+      // and the bracket are then resolved from dq as with fixed steps.
+      if (s.ok) event_below = lambda + step;
+      const double half =
+          std::floor((lambda + 0.5 * step - lambda0) / dq + 1e-6) * dq + lambda0 - lambda;
+      step = s.ok ? std::max(dq, half) : dq;
+      successes_since_cut = 0;
+      continue;
+    }
     // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
     if (step * 0.5 < options.dq_min) {
       if (unbalanced && !at_floor_exact) {
@@ -361,6 +461,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       result.detail = detail;
       record_instability(result, net, last_check, beyond);
       result.network_at_q1 = net;
+      result.attempts = attempts;
       return result;
     }
     step *= 0.5;
@@ -371,6 +472,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   result.criterion = Criterion::none;
   result.detail = "stopped while stable";
   result.network_at_q1 = net;
+  result.attempts = attempts;
   return result;
 }
 
@@ -423,10 +525,8 @@ StabilityResult find_q1(const Configuration& config, const Q1Options& options) {
   StabilityResult r = trace_from(config, options);
   // The end of the run for the progress lines, however it ended.
   if (options.on_progress && !r.curve.empty()) {
-    int attempts = r.steps;
-    for (const auto& [detail, count] : r.rejected) attempts += count;
-    options.on_progress({r.curve.back().load, static_cast<int>(r.curve.size()), attempts,
-                         r.curve.back().n_sliding, 0.0, true});
+    options.on_progress(
+        {r.curve.back().load, r.steps + 1, r.attempts, r.curve.back().n_sliding, 0.0, true});
   }
   return r;
 }

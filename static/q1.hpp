@@ -18,6 +18,14 @@ namespace granstab::statics {
 
 enum class Control { stress, strain };
 
+// §S3.3 step control. fixed: steps of dq, halved on failure and grown back to dq. adaptive: the
+// same, and between status events steps beyond dq, to the multiple of dq before the next event
+// predicted from the contact force rates (at most max_step_factor dq), while the stability
+// indicators stay away from 0; an attempt above dq that changes a status is bisected, so events
+// are crossed by steps of dq at most and q1 is bracketed as with fixed steps (docs/static.md).
+enum class StepControl { fixed, adaptive };
+const char* step_control_name(StepControl s);
+
 // Which §S3.4 criterion ended the run.
 enum class Criterion {
   none,         // the run stopped at load_stop or max_steps while stable
@@ -42,14 +50,9 @@ struct Q1Options {
   double dq = 1e-3;      // step of the load parameter (q; epsilon_2 under strain control)
   double dq_min = 1e-7;  // step floor: q1 is bracketed to [q, q + 2 dq_min) at worst
   Control control = Control::stress;
-  int max_steps = 1000000;
-  // Step control between status events (issue #18 item 3). 1: every step is dq (cut near q1).
-  // N > 1: after a step in which no contact changed status and none opened or closed, the next
-  // step doubles, up to N dq; a longer step that meets a status event is not taken but tried
-  // again at dq, so events are resolved at the user's step and the path is that of fixed steps
-  // up to the geometric change inside event-free steps. The states at multiples of dq inside a
-  // long step are written by linear interpolation (CurvePoint::interpolated).
-  int step_growth = 1;
+  StepControl steps = StepControl::adaptive;
+  double max_step_factor = 32.0;  // adaptive: the largest step, in units of dq
+  int max_steps = 1000000;        // accepted steps (adaptive ones may span several dq)
   double load_stop = std::numeric_limits<double>::infinity();  // stop once the parameter passes it
   // Log the Hill indicator at the start and at every hill_every-th accepted state (0: never). It
   // is an indicator only: no decision depends on it, so the path is the same at any stride.
@@ -85,8 +88,8 @@ struct CurvePoint {
   int negative_eigenvalues = 0;  // real negative eigenvalues of that K (-1: not counted)
   int newton_iterations = 0;
   int new_contacts = 0;
-  // A state at a multiple of dq inside a longer event-free step (Q1Options::step_growth): the
-  // linear interpolation of the accepted states on both sides, not a computed equilibrium.
+  // A row at a multiple of dq inside an adaptive step that changed no status: the columns above
+  // interpolated linearly between the two accepted states around it (no solve at this load).
   bool interpolated = false;
 };
 
@@ -121,8 +124,11 @@ struct StabilityResult {
   Network network_at_q1;
   StartPolish polish;
   Timings timings;
-  int steps = 0;
-  std::map<std::string, int> rejected;  // attempts cut by step control, by reason
+  int steps = 0;              // accepted steps (the curve's rows that are not interpolated, less 1)
+  int attempts = 0;           // steps tried: accepted + rejected
+  int interpolated_rows = 0;  // rows of curve marked interpolated
+  StepControl step_control = StepControl::fixed;  // the one of the run
+  std::map<std::string, int> rejected;            // attempts cut by step control, by reason
 };
 
 // §S3.0 on net (statics::prepare: rattlers, dofs, the equilibrium polished) and how far it moved.

@@ -91,6 +91,14 @@ int main(int argc, char** argv) {
     o.hill_every = 0;
     // The user's step (`granstab q1 --dq`); 1e-3 otherwise, as in every figure of bench/README.md.
     if (const char* dq = std::getenv("GRANSTAB_Q1_DQ")) o.dq = std::atof(dq);
+    // `granstab q1 --steps` and `--max-step-factor`; the library's defaults otherwise.
+    if (const char* steps = std::getenv("GRANSTAB_Q1_STEPS"))
+      o.steps = std::string(steps) == "fixed" ? statics::StepControl::fixed
+                                              : statics::StepControl::adaptive;
+    if (const char* factor = std::getenv("GRANSTAB_Q1_MAX_STEP_FACTOR"))
+      o.max_step_factor = std::atof(factor);
+    // `granstab q1 --stop`: a part of the run (a step control's first states at N = 5600).
+    if (const char* stop = std::getenv("GRANSTAB_Q1_STOP")) o.load_stop = std::atof(stop);
     if (fixed || status_pattern) o.solver.fixed_pattern = fixed;
     if (krylov || exact) o.solver.krylov_solves = krylov;
     const auto t2 = Clock::now();
@@ -103,21 +111,23 @@ int main(int argc, char** argv) {
       if (!f) throw std::runtime_error(std::string("cannot write ") + argv[6]);
       std::fprintf(f,
                    "load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,det_sign,new_contacts,"
-                   "negative_eigenvalues\n");
+                   "negative_eigenvalues,interpolated\n");
       for (const statics::CurvePoint& p : r.curve)
-        std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%d,%d\n", p.load, p.q, p.eps1, p.eps2,
-                     p.epsv, p.n_sliding, p.determinant_sign, p.new_contacts,
-                     p.negative_eigenvalues);
+        std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%d,%d,%d\n", p.load, p.q, p.eps1,
+                     p.eps2, p.epsv, p.n_sliding, p.determinant_sign, p.new_contacts,
+                     p.negative_eigenvalues, p.interpolated ? 1 : 0);
       std::fclose(f);
     }
     std::printf(
-        "q1 = %.9f in [%.9f, %.9f] (%s), %d steps + %d rejected, %.2f s (assembly %.2f, "
+        "q1 = %.9f in [%.9f, %.9f] (%s), %s steps: %d steps + %d rejected, %d interpolated rows, "
+        "%.2f s (assembly %.2f, "
         "factorisation %.2f, complementarity loops %.2f, correctors %.2f); "
         "%d LU factorisations (%d symbolic), %d status iterations, %d Newton iterations\n",
-        r.q1, r.q1_bracket[0], r.q1_bracket[1], statics::criterion_name(r.criterion), r.steps,
-        rejected, std::chrono::duration<double>(Clock::now() - t2).count(), t.assembly,
-        t.factorisation, t.complementarity, t.corrector, t.factorisations, t.symbolic_analyses,
-        t.status_iterations, t.newton_iterations);
+        r.q1, r.q1_bracket[0], r.q1_bracket[1], statics::criterion_name(r.criterion),
+        statics::step_control_name(r.step_control), r.steps, rejected, r.interpolated_rows,
+        std::chrono::duration<double>(Clock::now() - t2).count(), t.assembly, t.factorisation,
+        t.complementarity, t.corrector, t.factorisations, t.symbolic_analyses, t.status_iterations,
+        t.newton_iterations);
     const statics::LuStatistics& lu = statics::lu_statistics();
     std::printf(
         "LuFactor: %ld numeric factorisations (%ld symbolic analyses), %ld low-rank updates "

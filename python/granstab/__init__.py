@@ -64,7 +64,7 @@ def q1(sample, *, out=None, dq=1e-3, progress=None, quiet=True, **options):
 
     Options as on the command line, e.g. ``mu=0.25``, ``kt_ratio=0.5``, ``dq_min=1e-7``,
     ``control="strain"``, ``max_steps=100``, ``stop=0.5``, ``hill="every"`` (or a stride, or
-    False), ``polish=True``,
+    False), ``steps="fixed"`` (default adaptive), ``polish=True``,
     ``clip_to_cone=True``, ``set=["material.zeta=0.5"]``. Returns a Q1Result; the files are in
     ``out`` (a new temporary directory when not given)."""
     out = _out_dir(out, "q1")

@@ -45,7 +45,7 @@ class Result:
 class Q1Result(Result):
     """granstab q1: q1, q1_bracket, criterion, detail, n_sliding_at_q1, q_max_rigid, material, ...;
     ``curve`` (static_curve.csv: step, load, q, epsilon_1, epsilon_2, epsilon_v, n_sliding, hill,
-    det_sign, ...) and ``mode`` (unstable_mode.csv)."""
+    det_sign, ..., interpolated) and ``mode`` (unstable_mode.csv)."""
 
     def __init__(self, out):
         super().__init__(out, "q1.json", {"curve": os.path.join(out, "static_curve.csv"),

@@ -187,7 +187,8 @@ TEST_F(StaticStart, KtRatioKeepsTheStartForcesAndChangesTheCurve) {
   EXPECT_NEAR(m1.q, m0.q, 1e-12);
 
   const std::string file = quoted(sample.string());
-  const std::string args = " --mu 0.5 --max-steps 100 --quiet --out ";
+  // Fixed steps: row k of both curves at the same load k dq.
+  const std::string args = " --mu 0.5 --max-steps 100 --steps fixed --quiet --out ";
   ASSERT_EQ(dir_.run("q1 " + file + args + "a").exit_code, 0);
   ASSERT_EQ(dir_.run("q1 " + file + " --kt-ratio 0.5" + args + "b").exit_code, 0);
   const std::vector<std::string> a = lines_of(slurp(dir_ / "a/static_curve.csv"));

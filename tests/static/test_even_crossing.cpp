@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "static/hill.hpp"
 #include "static/linear_solvers.hpp"
@@ -132,6 +133,19 @@ TEST(NegativeEigenvalues, TwoTransverseModesCrossingTogetherAreABifurcation) {
   EXPECT_GE(r.q1_bracket[1], f_star);
   EXPECT_LT(r.q1_bracket[1] - r.q1_bracket[0], 2e-6);
   for (const CurvePoint& p : r.curve) EXPECT_EQ(p.determinant_sign, 1);
+  // Adaptive steps (the default) grow far beyond dq on the way (no status event, the symmetric
+  // part positive definite) and step over F*: the end state's count rejects that step, and the
+  // crossing is bracketed from dq as with fixed steps.
+  EXPECT_EQ(r.step_control, StepControl::adaptive);
+  EXPECT_GT(r.interpolated_rows, 0);
+  Q1Options fixed_steps = o;
+  fixed_steps.steps = StepControl::fixed;
+  const StabilityResult f = trace_to_instability(net, 10.0, axial, net.length, fixed_steps);
+  std::printf("adaptive: %d attempts, q1 = %.9f; fixed: %d attempts, q1 = %.9f; F* = %.9f\n",
+              r.attempts, r.q1, f.attempts, f.q1, f_star);
+  EXPECT_EQ(f.criterion, Criterion::bifurcation);
+  EXPECT_NEAR(r.q1, f.q1, 2e-6);
+  EXPECT_LT(r.attempts, f.attempts);
   // The determinant sign alone walks through F* to the stop.
   o.count_negative_eigenvalues = false;
   const StabilityResult blind = trace_to_instability(net, 10.0, axial, net.length, o);

@@ -117,7 +117,9 @@ TEST(KappaScaling, LatticeHardensBySlidingUpToTheRigidLimit) {
     double first_sliding = NAN;
     for (const CurvePoint& p : r.curve) {
       EXPECT_EQ(p.determinant_sign, 1);
-      EXPECT_GT(p.hill, 0.0);
+      if (!p.interpolated) {  // interpolated rows carry no Hill value
+        EXPECT_GT(p.hill, 0.0);
+      }
       if (p.n_sliding > 0 && std::isnan(first_sliding)) first_sliding = p.q;
       if (!std::isnan(first_sliding)) {
         EXPECT_EQ(p.n_sliding, 4) << p.q;
