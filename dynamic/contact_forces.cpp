@@ -394,10 +394,29 @@ bool set_simd_pairs(bool enabled) {
   return simd_pairs();
 }
 
-BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
-                                 std::vector<BlockSums>& blocks) {
-  const int team = in.parallel ? omp_get_max_threads() : 1;
-  if (pairs.team != team) plan_team(pairs, static_cast<int>(disks.size()), team);
+void plan_parts(PairArrays& pairs, std::size_t n, int team) {
+  plan_team(pairs, static_cast<int>(n), team);
+}
+
+std::array<int, 2> part_disks(std::size_t n, int part, int team) {
+  const int nb = block_count(n), end = static_cast<int>(n);
+  return {std::min(end, part_begin(nb, part, team) * block_size),
+          std::min(end, part_begin(nb, part + 1, team) * block_size)};
+}
+
+void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks) {
+  const int nb = block_count(n);
+  blocks.resize(2 * static_cast<std::size_t>(nb));
+  pairs.block_closed.resize(nb);
+  pairs.block_opened.resize(nb);
+}
+
+BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n) {
+  return add_blocks(blocks, 2 * block_count(n));
+}
+
+void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
+                         const ForceInputs& in, std::vector<BlockSums>& blocks) {
   const Cell cell = cell_of(in);
   // With the kick, the first half kick (kick_drift) has cleared the sums after using them.
   const auto clear = [&](int first, int end) {
@@ -429,13 +448,11 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
                  : RowSums{disks.fx[i], disks.fy[i], disks.fvx[i], disks.fvy[i], disks.torque[i]};
     finish_disk(disks, in, cell, i, false, s, sums);
   };
-  return run(disks, pairs, in, blocks, clear, rows, finish);
+  run_part(member, disks, pairs, in, blocks, clear, rows, finish);
 }
 
-BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
-                                 std::vector<BlockSums>& blocks) {
-  // The split of the force pass that listed the closed pairs (its slots are current).
-  if (pairs.team == 0) plan_team(pairs, static_cast<int>(disks.size()), 1);
+void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
+                         const ForceInputs& in, std::vector<BlockSums>& blocks) {
   const Cell cell = cell_of(in);
   const auto clear = [](int, int) {};  // the force pass with the kick left zeros
   const auto rows = [&](int b, int first, int end, BlockSums& sums) {
@@ -449,7 +466,21 @@ BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const For
     if (in.periodic && !gathered) return;  // the sums are complete already
     finish_disk(disks, in, cell, i, true, s, sums);
   };
-  return run(disks, pairs, in, blocks, clear, rows, finish);
+  run_part(member, disks, pairs, in, blocks, clear, rows, finish);
+}
+
+BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+                                 std::vector<BlockSums>& blocks) {
+  SpinBarrier barrier;
+  const std::size_t n = disks.size();
+  on_team(
+      in.parallel ? omp_get_max_threads() : 1, barrier,
+      [&](int team) {
+        if (pairs.team != team) plan_parts(pairs, n, team);
+        size_passes(n, pairs, blocks);
+      },
+      [&](const TeamMember& member) { contact_forces_part(member, disks, pairs, in, blocks); });
+  return sum_blocks(blocks, n);
 }
 
 }  // namespace granstab::dynamic

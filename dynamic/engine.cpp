@@ -1,5 +1,7 @@
 #include "engine.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -124,16 +126,17 @@ void Engine::import_contacts(const Contacts& c) {
   }
 }
 
-ForceInputs Engine::force_inputs(double dt_tangential, bool mid_step) const {
+ForceInputs Engine::force_inputs(const dynamic::CellState& cell, double dt_tangential,
+                                 bool mid_step) const {
   ForceInputs in;
   in.material = &material_;
-  in.periodic = cell_.periodic();
-  in.length = cell_.length;
+  in.periodic = cell.periodic();
+  in.length = cell.length;
   in.dt = dt_tangential;
   for (int a = 0; a < 2; ++a) {
-    const double scale = in.periodic ? 1.0 / cell_.length[a] : 1.0;
-    in.rate_tangential[a] = cell_.length_rate[a] * scale;
-    in.rate_viscous[a] = (mid_step ? cell_.rate_predicted[a] : cell_.length_rate[a]) * scale;
+    const double scale = in.periodic ? 1.0 / cell.length[a] : 1.0;
+    in.rate_tangential[a] = cell.length_rate[a] * scale;
+    in.rate_viscous[a] = (mid_step ? cell.rate_predicted[a] : cell.length_rate[a]) * scale;
   }
   in.vx_viscous = mid_step ? disks_.vpx.data() : disks_.vx.data();
   in.vy_viscous = mid_step ? disks_.vpy.data() : disks_.vy.data();
@@ -142,45 +145,95 @@ ForceInputs Engine::force_inputs(double dt_tangential, bool mid_step) const {
 }
 
 void Engine::evaluate_state() {
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(0.0, false), blocks_);
-  control_cell();
+  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(cell_, 0.0, false), blocks_);
+  control_cell(cell_, sums_);
 }
 
-void Engine::control_cell() {
+void Engine::control_cell(dynamic::CellState& cell, const BlockSums& sums) const {
   const dynamic::ControlForces f =
-      dynamic::control_forces(cell_, sums_, options_.viscous_forces_drive_cell);
-  cell_.length_acceleration = dynamic::length_acceleration(cell_, stage_, f);
+      dynamic::control_forces(cell, sums, options_.viscous_forces_drive_cell);
+  cell.length_acceleration = dynamic::length_acceleration(cell, stage_, f);
 }
 
-void Engine::refresh_viscous_forces() {
-  // zeta = 0: alpha = 0, the viscous forces are exact zeros (and fvx, fvy hold zeros already).
-  if (material_.zeta == 0.0) return;
-  const BlockSums v =
-      dynamic::compute_viscous_forces(disks_, pairs_, force_inputs(0.0, false), blocks_);
-  sums_.sigma_viscous = v.sigma_viscous;
-  sums_.wall_force_viscous = v.wall_force_viscous;
-  control_cell();
-}
+void Engine::step() { run(1); }
 
 // Velocity Verlet. The first half kick and the drift belong to the integrator; the forces at
 // t + dt need the velocities at t + dt only through the viscous term, which is evaluated with
 // predicted velocities and then refreshed with the final ones so that the cached forces are a
 // function of the synchronous state (docs/dynamic.md).
-void Engine::step() {
-  dynamic::kick_drift(disks_, cell_, stage_, dt_, neighbours_, parallel());
-  neighbours_.update(disks_, cell_, pairs_, material_);
-  ForceInputs in = force_inputs(dt_, true);
-  in.kick = true;  // the disks' second half kick, as each disk's forces are complete
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, in, blocks_);
-  control_cell();
-  dynamic::kick_cell(cell_, stage_, dt_);
-  refresh_viscous_forces();
-  ++step_;
-  time_ += dt_;
+//
+// The whole run is one parallel region (docs/dynamic.md, "Performance"): each thread drifts,
+// sweeps and kicks the disks of its own part in every pass of every step, and the team meets
+// at the barriers the data flow needs: after the drift (partners' positions, the displacement
+// maximum), inside the passes when blocks are gathered, after the force pass (the stress sums
+// the cell's control needs, the final velocities the viscous refresh reads). The cell's state
+// is a few numbers: every thread computes it alike from the same sums (same bits), so no
+// thread waits for another to do it.
+void Engine::run(std::uint64_t steps) {
+  if (steps == 0) return;
+  const std::size_t n = disks_.size();
+  const auto prepare = [&](int team) {
+    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, team);
+    dynamic::size_passes(n, pairs_, blocks_);
+    viscous_blocks_.resize(blocks_.size());
+    max_displacement2_.resize(team);
+  };
+  dynamic::on_team(parallel() ? omp_get_max_threads() : 1, barrier_, prepare,
+                   [&](const dynamic::TeamMember& member) { advance(member, steps); });
 }
 
-void Engine::run(std::uint64_t steps) {
-  for (std::uint64_t s = 0; s < steps; ++s) step();
+void Engine::advance(const dynamic::TeamMember& member, std::uint64_t steps) {
+  const std::size_t n = disks_.size();
+  const auto [first, end] = dynamic::part_disks(n, member.thread, member.threads);
+  dynamic::CellState cell = cell_;
+  BlockSums sums = sums_;
+  auto rebuild_test = neighbours_.rebuild_test();
+  double max_d2 = 0.0;
+  for (std::uint64_t s = 0; s < steps; ++s) {
+    const std::array<double, 2> lambda = dynamic::kick_drift_cell(cell, stage_, dt_);
+    max_displacement2_[member.thread].value =
+        dynamic::kick_drift_disks(disks_, cell, lambda, dt_, neighbours_, first, end);
+    member.sync();
+    max_d2 = 0.0;
+    for (const auto& d2 : max_displacement2_) max_d2 = std::max(max_d2, d2.value);
+    if (rebuild_test(cell, max_d2)) {
+      if (member.thread == 0) {
+        neighbours_.rebuild(disks_, cell, pairs_, material_);
+        dynamic::plan_parts(pairs_, n, member.threads);
+      }
+      member.sync();
+      rebuild_test = neighbours_.rebuild_test();
+    }
+    ForceInputs in = force_inputs(cell, dt_, true);
+    in.kick = true;  // the disks' second half kick, as each disk's forces are complete
+    dynamic::contact_forces_part(member, disks_, pairs_, in, blocks_);
+    member.sync();
+    sums = dynamic::sum_blocks(blocks_, n);
+    control_cell(cell, sums);
+    dynamic::kick_cell(cell, stage_, dt_);
+    // The viscous forces of the final velocities (zeta = 0: alpha = 0, they are exact zeros,
+    // and fvx, fvy hold zeros already).
+    if (material_.zeta != 0.0) {
+      dynamic::viscous_forces_part(member, disks_, pairs_, force_inputs(cell, 0.0, false),
+                                   viscous_blocks_);
+      if (!cell.periodic()) member.sync();  // the gathered disks' wall forces
+      const BlockSums v = dynamic::sum_blocks(viscous_blocks_, n);
+      sums.sigma_viscous = v.sigma_viscous;
+      sums.wall_force_viscous = v.wall_force_viscous;
+      control_cell(cell, sums);
+    }
+    if (member.thread == 0) {
+      ++step_;
+      time_ += dt_;
+    }
+  }
+  // Threads other than 0 may still read cell_ and sums_ (their copies were taken at the start)
+  // only before their first barrier, which thread 0 has passed too.
+  if (member.thread == 0) {
+    cell_ = cell;
+    sums_ = sums;
+    neighbours_.set_max_displacement_squared(max_d2);
+  }
 }
 
 void Engine::set_dt(double dt) {

@@ -114,9 +114,12 @@ class Engine {
   bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
   void evaluate_state();  // forces and cell acceleration of the current state (no increment)
   bool apply_stage(const Stage& stage);
-  void control_cell();
-  void refresh_viscous_forces();
-  dynamic::ForceInputs force_inputs(double dt_tangential, bool end_of_step) const;
+  void control_cell() { control_cell(cell_, sums_); }
+  void control_cell(dynamic::CellState& cell, const dynamic::BlockSums& sums) const;
+  // One thread's share of run(steps), inside the team's parallel region.
+  void advance(const dynamic::TeamMember& member, std::uint64_t steps);
+  dynamic::ForceInputs force_inputs(const dynamic::CellState& cell, double dt_tangential,
+                                    bool mid_step) const;
   void import_contacts(const Contacts& contacts);
 
   EngineOptions options_;
@@ -127,7 +130,16 @@ class Engine {
   dynamic::CellState cell_;
   dynamic::NeighbourList neighbours_;
   dynamic::BlockSums sums_;  // elastic sums of the last force pass + viscous of the state
-  std::vector<dynamic::BlockSums> blocks_;
+  // Per-block sums of the force pass and of the viscous refresh: apart, so that a thread may
+  // start the refresh while another still adds the force pass's sums.
+  std::vector<dynamic::BlockSums> blocks_, viscous_blocks_;
+  // The team of run(): its barrier, and each thread's largest displacement of the step (one
+  // cache line each, written by its thread, read by all after the barrier).
+  dynamic::SpinBarrier barrier_;
+  struct alignas(64) Displacement2 {
+    double value = 0.0;
+  };
+  std::vector<Displacement2> max_displacement2_;
   double dt_ = 0.0, time_scale_ = 0.0, time_ = 0.0;
   std::uint64_t step_ = 0;
   std::string rng_state_;

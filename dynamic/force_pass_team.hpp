@@ -1,13 +1,14 @@
 #pragma once
 // The force pass's split over the team (parts, gathered blocks, sums), apart from the pair physics.
 // Included by contact_forces.cpp only, in an anonymous namespace: the force pass stays one
-// translation unit, so the compiler inlines the sweeps and gather() into run().
+// translation unit, so the compiler inlines the sweeps and gather() into run_part().
 #include <omp.h>
 
 #include <algorithm>
 #include <vector>
 
 #include "contact_forces.hpp"
+#include "team.hpp"
 
 namespace granstab::dynamic {
 namespace {
@@ -86,53 +87,43 @@ void plan_team(PairArrays& pairs, int n, int team) {
   pairs.team = team;
 }
 
-// One pass over the pairs on the team: part k's thread clears its disks' sums, sweeps the rows
-// of its blocks and completes each block that is not gathered; after a barrier (only if some
-// block is gathered) the gathered blocks are completed from the slots. Per-block sums are added
-// in block order (pairs first, then disks), so every reduction is thread-independent.
+// One thread's share of a pass over the pairs (its part: a fixed range of whole blocks): it
+// clears its disks' sums, sweeps the rows of its blocks and completes each block that is not
+// gathered; after a barrier (only if some block is gathered) it completes its gathered blocks
+// from the slots. Per-block sums go to `blocks` (pairs first, then disks); sum_blocks adds them
+// in block order, so every reduction is thread-independent. Periodic cells have no disk sums
+// (those are the walls'): the gathered blocks' zeros are written before the barrier, so that
+// after it only the disks' own arrays are still being written and the team may take the sums.
 template <class Clear, class Rows, class Finish>
-BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
               std::vector<BlockSums>& blocks, Clear clear, Rows rows, Finish finish) {
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
-  blocks.resize(2 * static_cast<std::size_t>(nb));
-  pairs.block_closed.resize(nb);
-  pairs.block_opened.resize(nb);
-  const int team = pairs.team;
-#pragma omp parallel num_threads(team) if (in.parallel)
-  {
-    // Parts are fixed by the plan; a smaller team than planned runs several parts per thread.
-    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
-    for (int part = t; part < team; part += threads) {
-      const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
-      clear(b0 * block_size, std::min(n, b1 * block_size));
-      for (int b = b0; b < b1; ++b) {
-        const int first = b * block_size, end = std::min(n, first + block_size);
-        BlockSums sums;
-        rows(b, first, end, sums);
-        blocks[b] = sums;
-        if (!pairs.block_gathered[b]) {
-          BlockSums disk_sums;
-          for (int i = first; i < end; ++i) finish(i, false, disk_sums);
-          blocks[nb + b] = disk_sums;
-        }
-      }
-    }
-    if (pairs.any_gathered) {
-#pragma omp barrier
-      for (int part = t; part < team; part += threads) {
-        const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
-        for (int b = b0; b < b1; ++b) {
-          if (!pairs.block_gathered[b]) continue;
-          const int first = b * block_size, end = std::min(n, first + block_size);
-          BlockSums disk_sums;
-          for (int i = first; i < end; ++i) finish(i, true, disk_sums);
-          blocks[nb + b] = disk_sums;
-        }
-      }
+  const int b0 = part_begin(nb, member.thread, pairs.team);
+  const int b1 = part_begin(nb, member.thread + 1, pairs.team);
+  clear(b0 * block_size, std::min(n, b1 * block_size));
+  for (int b = b0; b < b1; ++b) {
+    const int first = b * block_size, end = std::min(n, first + block_size);
+    BlockSums sums;
+    rows(b, first, end, sums);
+    blocks[b] = sums;
+    if (!pairs.block_gathered[b]) {
+      BlockSums disk_sums;
+      for (int i = first; i < end; ++i) finish(i, false, disk_sums);
+      blocks[nb + b] = disk_sums;
+    } else if (in.periodic) {
+      blocks[nb + b] = BlockSums{};
     }
   }
-  return add_blocks(blocks, 2 * nb);
+  if (!pairs.any_gathered) return;
+  member.sync();
+  for (int b = b0; b < b1; ++b) {
+    if (!pairs.block_gathered[b]) continue;
+    const int first = b * block_size, end = std::min(n, first + block_size);
+    BlockSums disk_sums;
+    for (int i = first; i < end; ++i) finish(i, true, disk_sums);
+    if (!in.periodic) blocks[nb + b] = disk_sums;
+  }
 }
 
 }  // namespace
