@@ -115,8 +115,9 @@ enum class Sweep {
 // its scratch. The inputs are copied to locals: the stores into the force arrays could
 // otherwise alias them.
 template <bool Gathering, bool Periodic, Sweep How>
-void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first, int end,
-                 BlockSums& block_sums) {
+[[gnu::always_inline]] inline void pair_forces(DiskArrays& d, PairArrays& pairs,
+                                               const ForceInputs& in, int b, int first, int end,
+                                               BlockSums& block_sums) {
   // The sums in a local: through the reference, GCC keeps them in memory (3 instructions more
   // per closed pair when this function is not inlined).
   BlockSums sums = block_sums;
@@ -257,8 +258,9 @@ template <bool Gathering, bool Periodic>
 // Viscous force only, at the velocities of in, over the closed pairs listed by pair_forces
 // (whose frame it stored); pairs that opened during the step drop their share.
 template <bool Gathering, bool Periodic>
-void pair_viscous(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first,
-                  int end, BlockSums& sums) {
+[[gnu::always_inline]] inline void pair_viscous(DiskArrays& d, PairArrays& pairs,
+                                                const ForceInputs& in, int b, int first, int end,
+                                                BlockSums& sums) {
   const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
   const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
   const double* const vvx = in.vx_viscous;
@@ -316,8 +318,9 @@ void pair_viscous(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b
 
 // The disk's forces once its pair sums are complete: walls, then the external force, then
 // (if asked) the second half kick.
-void finish_disk(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, bool viscous_only,
-                 RowSums s, BlockSums& sums) {
+[[gnu::always_inline]] inline void finish_disk(DiskArrays& d, const ForceInputs& in,
+                                               const Cell& cell, int i, bool viscous_only,
+                                               RowSums s, BlockSums& sums) {
   if (!in.periodic) {
     wall_forces(d, in, cell, i, viscous_only, s.fx, s.fy, s.fvx, s.fvy, s.torque, sums);
   }
