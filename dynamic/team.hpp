@@ -2,11 +2,10 @@
 // The thread team of a run (issue #23): one parallel region for a whole Engine::run, each
 // thread keeping the same part of the disks for every pass and every step, and a barrier of
 // its own between the passes. libgomp's barrier sleeps at once under OMP_WAIT_POLICY=passive
-// (10-20 us to wake a thread here, a fifth of a step at N = 5600 on two threads); this one
-// spins a few tens of microseconds first (a pass's imbalance is shorter than that) and only
-// then sleeps, so that a thread waiting for a descheduled partner on a loaded machine gives
-// its core away.
+// (10-20 us to wake a thread here, against a step of ~140 us at N = 5600 on two threads); this
+// one spins briefly, then yields, and only then sleeps (see wait()).
 #include <omp.h>
+#include <sched.h>
 
 #include <atomic>
 #include <cstdint>
@@ -43,6 +42,10 @@ class SpinBarrier {
       if (generation_.load(std::memory_order_acquire) != gen) return;
       pause();
     }
+    for (int k = 0; k < yield_iterations; ++k) {
+      if (generation_.load(std::memory_order_acquire) != gen) return;
+      sched_yield();
+    }
     while (generation_.load(std::memory_order_acquire) == gen) {
       generation_.wait(gen, std::memory_order_acquire);
     }
@@ -50,7 +53,13 @@ class SpinBarrier {
 
  private:
   // About 30-50 us of pause instructions on the x86-64 CPUs seen here.
-  static constexpr int spin_iterations = 1000;
+  // ~3 us of pause instructions (9 ns each on the Xeon of the test VM): two threads on two
+  // cores arrive within that in most passes. Then yields: when both threads share one CPU
+  // (a loaded machine: Linux keeps waking threads on the waker's CPU) this hands it to the
+  // partner at once, where spinning would burn the time slice it waits for (10 us of spinning
+  // made two threads 25 % slower there, 100 us three to twenty times). Then sleep.
+  static constexpr int spin_iterations = 300;
+  static constexpr int yield_iterations = 1000;
   static void pause() {
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
