@@ -17,14 +17,14 @@ namespace granstab::dynamic {
 namespace {
 
 // Adds a pair's force to its disks in the order of the sums (docs/dynamic.md,
-// "Determinism"): j's running sum in memory (its rows come later), i's in registers. Disks of
-// gathered blocks get theirs after the barrier from the pair's slot instead.
+// "Determinism"): j's running sum in memory (its rows come later), i's in registers. Gathered
+// disks get theirs after the barrier from the pair's slot instead.
 template <bool Gathering>
 inline void add_pair(DiskArrays& d, PairArrays& pairs, int p, int j, const PairArrays::Force& f,
                      RowSums& row) {
   if constexpr (Gathering) {
     if (pairs.slotted[p]) pairs.force[p] = f;
-    if (pairs.block_gathered[j / block_size]) {
+    if (pairs.gathered[j]) {
       row.fx -= f.fx;
       row.fy -= f.fy;
       row.fvx -= f.fvx;
@@ -299,11 +299,11 @@ template <bool Gathering, bool Periodic>
         pairs.force[p].fvx = fvx;
         pairs.force[p].fvy = fvy;
       }
-      if (!pairs.block_gathered[j / block_size]) {
+      if (!pairs.gathered[j]) {
         fvx_sum[j] += fvx;
         fvy_sum[j] += fvy;
       }
-      if (!pairs.block_gathered[i / block_size]) {
+      if (!pairs.gathered[i]) {
         fvx_sum[i] -= fvx;
         fvy_sum[i] -= fvy;
       }
@@ -397,8 +397,8 @@ bool set_simd_pairs(bool enabled) {
   return simd_pairs();
 }
 
-void plan_parts(PairArrays& pairs, std::size_t n, int team) {
-  plan_team(pairs, static_cast<int>(n), team);
+void plan_parts(PairArrays& pairs, std::size_t n, int team, bool periodic) {
+  plan_team(pairs, static_cast<int>(n), team, !periodic);
 }
 
 std::array<int, 2> part_disks(std::size_t n, int part, int team) {
@@ -451,7 +451,7 @@ void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays
                  : RowSums{disks.fx[i], disks.fy[i], disks.fvx[i], disks.fvy[i], disks.torque[i]};
     finish_disk(disks, in, cell, i, false, s, sums);
   };
-  run_part(member, disks, pairs, in, blocks, clear, rows, finish);
+  run_part(member, disks, pairs, blocks, clear, rows, finish);
 }
 
 void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
@@ -469,7 +469,7 @@ void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays
     if (in.periodic && !gathered) return;  // the sums are complete already
     finish_disk(disks, in, cell, i, true, s, sums);
   };
-  run_part(member, disks, pairs, in, blocks, clear, rows, finish);
+  run_part(member, disks, pairs, blocks, clear, rows, finish);
 }
 
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
@@ -479,7 +479,7 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
   on_team(
       in.parallel ? omp_get_max_threads() : 1, barrier,
       [&](int team) {
-        if (pairs.team != team) plan_parts(pairs, n, team);
+        if (pairs.team != team) plan_parts(pairs, n, team, in.periodic);
         size_passes(n, pairs, blocks);
       },
       [&](const TeamMember& member) { contact_forces_part(member, disks, pairs, in, blocks); });

@@ -42,9 +42,9 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
 // --- the passes of a time step, run by a team inside one parallel region (engine.cpp) -------
 // The team's parts: part k of a team of T holds the blocks [nb k / T, nb (k + 1) / T) (nb
 // blocks of block_size disks), whatever the pass, so that each thread keeps its disks' data in
-// its core's cache. plan_parts finds the gathered blocks of the split (after every list
+// its core's cache. plan_parts finds the gathered disks of the split (after every list
 // rebuild and for a new team size); size_passes sizes the per-block scratch.
-void plan_parts(PairArrays& pairs, std::size_t n, int team);
+void plan_parts(PairArrays& pairs, std::size_t n, int team, bool periodic);
 std::array<int, 2> part_disks(std::size_t n, int part, int team);  // [first, end)
 void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks);
 

@@ -173,7 +173,7 @@ void Engine::run(std::uint64_t steps) {
   if (steps == 0) return;
   const std::size_t n = disks_.size();
   const auto prepare = [&](int team) {
-    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, team);
+    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, team, cell_.periodic());
     dynamic::size_passes(n, pairs_, blocks_);
     viscous_blocks_.resize(blocks_.size());
     max_displacement2_.resize(team);
@@ -199,7 +199,7 @@ void Engine::advance(const dynamic::TeamMember& member, std::uint64_t steps) {
     if (rebuild_test(cell, max_d2)) {
       if (member.thread == 0) {
         neighbours_.rebuild(disks_, cell, pairs_, material_);
-        dynamic::plan_parts(pairs_, n, member.threads);
+        dynamic::plan_parts(pairs_, n, member.threads, cell.periodic());
       }
       member.sync();
       rebuild_test = neighbours_.rebuild_test();

@@ -60,10 +60,12 @@ int part_begin(int blocks, int part, int team) {
   return static_cast<int>(static_cast<long long>(blocks) * part / team);
 }
 
-// Which blocks a split into `team` parts must gather (see PairArrays): those with a disk whose
-// first partner (smallest i of its column) lies before the start of its part.
-void plan_team(PairArrays& pairs, int n, int team) {
+// Which disks a split into `team` parts must gather (see PairArrays): those whose first partner
+// (smallest i of its column) lies before the start of their part. With walls, whole blocks:
+// a block's disk sums (the walls') are then added in disk order after the barrier.
+void plan_team(PairArrays& pairs, int n, int team, bool whole_blocks) {
   const int nb = block_count(static_cast<std::size_t>(n));
+  pairs.gathered.assign(n, 0);
   pairs.block_gathered.assign(nb, 0);
   pairs.any_gathered = false;
   for (int part = 0; part < team; ++part) {
@@ -72,30 +74,35 @@ void plan_team(PairArrays& pairs, int n, int team) {
     for (int k = part_first; k < std::min(n, b1 * block_size); ++k) {
       const int s = pairs.column_start[k];
       if (s < pairs.column_start[k + 1] && pairs.i[pairs.column_pair[s]] < part_first) {
+        pairs.gathered[k] = 1;
         pairs.block_gathered[k / block_size] = 1;
         pairs.any_gathered = true;
       }
     }
   }
+  if (whole_blocks) {
+    for (int k = 0; k < n; ++k) pairs.gathered[k] = pairs.block_gathered[k / block_size];
+  }
   pairs.slotted.resize(pairs.size());
   pairs.block_slotted.assign(nb, 0);
   for (std::size_t p = 0; p < pairs.size(); ++p) {
-    pairs.slotted[p] = pairs.block_gathered[pairs.i[p] / block_size] |
-                       pairs.block_gathered[pairs.j[p] / block_size];
+    pairs.slotted[p] = pairs.gathered[pairs.i[p]] | pairs.gathered[pairs.j[p]];
     pairs.block_slotted[pairs.i[p] / block_size] |= pairs.slotted[p];
   }
   pairs.team = team;
+  pairs.whole_blocks = whole_blocks;
 }
 
 // One thread's share of a pass over the pairs (its part: a fixed range of whole blocks): it
-// clears its disks' sums, sweeps the rows of its blocks and completes each block that is not
-// gathered; after a barrier (only if some block is gathered) it completes its gathered blocks
-// from the slots. Per-block sums go to `blocks` (pairs first, then disks); sum_blocks adds them
-// in block order, so every reduction is thread-independent. Periodic cells have no disk sums
-// (those are the walls'): the gathered blocks' zeros are written before the barrier, so that
-// after it only the disks' own arrays are still being written and the team may take the sums.
+// clears its disks' sums, sweeps the rows of its blocks and completes each disk that is not
+// gathered after its block's rows; after a barrier (only if some disk is gathered) it completes
+// its gathered disks from the slots. Per-block sums go to `blocks` (pairs first, then disks);
+// sum_blocks adds them in block order, so every reduction is thread-independent. Periodic cells
+// have no disk sums (those are the walls'): the zeros of the blocks with gathered disks are written
+// before the barrier, so that after it only the disks' own arrays are still being written and the
+// team may take the sums.
 template <class Clear, class Rows, class Finish>
-void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
               std::vector<BlockSums>& blocks, Clear clear, Rows rows, Finish finish) {
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
@@ -111,7 +118,11 @@ void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs, co
       BlockSums disk_sums;
       for (int i = first; i < end; ++i) finish(i, false, disk_sums);
       blocks[nb + b] = disk_sums;
-    } else if (in.periodic) {
+    } else if (!pairs.whole_blocks) {  // periodic: no disk sums
+      BlockSums none;
+      for (int i = first; i < end; ++i) {
+        if (!pairs.gathered[i]) finish(i, false, none);
+      }
       blocks[nb + b] = BlockSums{};
     }
   }
@@ -121,8 +132,10 @@ void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs, co
     if (!pairs.block_gathered[b]) continue;
     const int first = b * block_size, end = std::min(n, first + block_size);
     BlockSums disk_sums;
-    for (int i = first; i < end; ++i) finish(i, true, disk_sums);
-    if (!in.periodic) blocks[nb + b] = disk_sums;
+    for (int i = first; i < end; ++i) {
+      if (pairs.gathered[i]) finish(i, true, disk_sums);
+    }
+    if (pairs.whole_blocks) blocks[nb + b] = disk_sums;
   }
 }
 
