@@ -106,9 +106,12 @@ void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
               std::vector<BlockSums>& blocks, Clear clear, Rows rows, Finish finish) {
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
-  const int b0 = part_begin(nb, member.thread, pairs.team);
-  const int b1 = part_begin(nb, member.thread + 1, pairs.team);
+  const int b0 = part_begin(nb, member.part_first, pairs.team);
+  const int b1 = part_begin(nb, member.part_end, pairs.team);
   clear(b0 * block_size, std::min(n, b1 * block_size));
+  // A thread running several parts sweeps them in order: the running sums of a disk then get
+  // their additions in the order of one thread's sweep, and a gathered disk's slots are all
+  // written before the (skipped) barrier.
   for (int b = b0; b < b1; ++b) {
     const int first = b * block_size, end = std::min(n, first + block_size);
     BlockSums sums;

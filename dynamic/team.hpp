@@ -72,11 +72,36 @@ class SpinBarrier {
   alignas(64) int threads_ = 1;
 };
 
-// One thread's view of the team inside the region: its part of the disks (a fixed range of
-// whole blocks, PairArrays::team parts) and the team's barrier.
+// Where the threads of a team that one thread runs alone sleep (engine.cpp): until that thread
+// has published its k-th hand-back. Sleeps at once (futex): the point is to leave the CPU.
+class Wakeup {
+ public:
+  Wakeup() = default;
+  Wakeup(const Wakeup&) {}  // holds nothing between two runs
+  Wakeup& operator=(const Wakeup&) { return *this; }
+  void reset() { count_.store(0, std::memory_order_relaxed); }
+  void publish(std::uint32_t k) {
+    count_.store(k, std::memory_order_release);
+    count_.notify_all();
+  }
+  void await(std::uint32_t k) const {
+    for (std::uint32_t c = count_.load(std::memory_order_acquire); c < k;
+         c = count_.load(std::memory_order_acquire)) {
+      count_.wait(c, std::memory_order_acquire);
+    }
+  }
+
+ private:
+  alignas(64) std::atomic<std::uint32_t> count_{0};
+};
+
+// One thread's view of the team inside the region: the parts it runs (a fixed range of whole
+// blocks each, PairArrays::team parts; its own one, or all of them when it runs alone) and the
+// team's barrier (threads: how many meet there).
 struct TeamMember {
   int thread = 0;
   int threads = 1;
+  int part_first = 0, part_end = 1;
   SpinBarrier* barrier = nullptr;
   void sync() const {
     if (threads > 1) barrier->wait();
@@ -91,7 +116,7 @@ void on_team(int threads, SpinBarrier& barrier, Prepare prepare, Body body) {
   if (threads <= 1) {
     barrier.reset(1);
     prepare(1);
-    body(TeamMember{0, 1, &barrier});
+    body(TeamMember{0, 1, 0, 1, &barrier});
     return;
   }
 #pragma omp parallel num_threads(threads)
@@ -102,7 +127,8 @@ void on_team(int threads, SpinBarrier& barrier, Prepare prepare, Body body) {
       barrier.reset(team);
       prepare(team);
     }  // (implicit barrier)
-    body(TeamMember{omp_get_thread_num(), team, &barrier});
+    const int t = omp_get_thread_num();
+    body(TeamMember{t, team, t, t + 1, &barrier});
   }
 }
 
