@@ -3,7 +3,8 @@
 // thread keeping the same part of the disks for every pass and every step, and a barrier of
 // its own between the passes. libgomp's barrier sleeps at once under OMP_WAIT_POLICY=passive
 // (10-20 us to wake a thread here, against a step of ~140 us at N = 5600 on two threads); this
-// one spins briefly, then yields, and only then sleeps (see wait()).
+// one spins briefly, then yields, and only then sleeps (see wait()). Also where the team sleeps
+// while one thread runs it alone (Wakeup; engine.cpp).
 #include <omp.h>
 #include <sched.h>
 
@@ -52,7 +53,6 @@ class SpinBarrier {
   }
 
  private:
-  // About 30-50 us of pause instructions on the x86-64 CPUs seen here.
   // ~3 us of pause instructions (9 ns each on the Xeon of the test VM): two threads on two
   // cores arrive within that in most passes. Then yields: when both threads share one CPU
   // (a loaded machine: Linux keeps waking threads on the waker's CPU) this hands it to the
