@@ -17,14 +17,14 @@ namespace granstab::dynamic {
 namespace {
 
 // Adds a pair's force to its disks in the order of the sums (docs/dynamic.md,
-// "Determinism"): j's running sum in memory (its rows come later), i's in registers. Disks of
-// gathered blocks get theirs after the barrier from the pair's slot instead.
+// "Determinism"): j's running sum in memory (its rows come later), i's in registers. Gathered
+// disks get theirs after the barrier from the pair's slot instead.
 template <bool Gathering>
 inline void add_pair(DiskArrays& d, PairArrays& pairs, int p, int j, const PairArrays::Force& f,
                      RowSums& row) {
   if constexpr (Gathering) {
     if (pairs.slotted[p]) pairs.force[p] = f;
-    if (pairs.block_gathered[j / block_size]) {
+    if (pairs.gathered[j]) {
       row.fx -= f.fx;
       row.fy -= f.fy;
       row.fvx -= f.fvx;
@@ -115,8 +115,9 @@ enum class Sweep {
 // its scratch. The inputs are copied to locals: the stores into the force arrays could
 // otherwise alias them.
 template <bool Gathering, bool Periodic, Sweep How>
-void pair_forces(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first, int end,
-                 BlockSums& block_sums) {
+[[gnu::always_inline]] inline void pair_forces(DiskArrays& d, PairArrays& pairs,
+                                               const ForceInputs& in, int b, int first, int end,
+                                               BlockSums& block_sums) {
   // The sums in a local: through the reference, GCC keeps them in memory (3 instructions more
   // per closed pair when this function is not inlined).
   BlockSums sums = block_sums;
@@ -257,8 +258,9 @@ template <bool Gathering, bool Periodic>
 // Viscous force only, at the velocities of in, over the closed pairs listed by pair_forces
 // (whose frame it stored); pairs that opened during the step drop their share.
 template <bool Gathering, bool Periodic>
-void pair_viscous(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b, int first,
-                  int end, BlockSums& sums) {
+[[gnu::always_inline]] inline void pair_viscous(DiskArrays& d, PairArrays& pairs,
+                                                const ForceInputs& in, int b, int first, int end,
+                                                BlockSums& sums) {
   const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
   const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
   const double* const vvx = in.vx_viscous;
@@ -297,11 +299,11 @@ void pair_viscous(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b
         pairs.force[p].fvx = fvx;
         pairs.force[p].fvy = fvy;
       }
-      if (!pairs.block_gathered[j / block_size]) {
+      if (!pairs.gathered[j]) {
         fvx_sum[j] += fvx;
         fvy_sum[j] += fvy;
       }
-      if (!pairs.block_gathered[i / block_size]) {
+      if (!pairs.gathered[i]) {
         fvx_sum[i] -= fvx;
         fvy_sum[i] -= fvy;
       }
@@ -316,8 +318,9 @@ void pair_viscous(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int b
 
 // The disk's forces once its pair sums are complete: walls, then the external force, then
 // (if asked) the second half kick.
-void finish_disk(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, bool viscous_only,
-                 RowSums s, BlockSums& sums) {
+[[gnu::always_inline]] inline void finish_disk(DiskArrays& d, const ForceInputs& in,
+                                               const Cell& cell, int i, bool viscous_only,
+                                               RowSums s, BlockSums& sums) {
   if (!in.periodic) {
     wall_forces(d, in, cell, i, viscous_only, s.fx, s.fy, s.fvx, s.fvy, s.torque, sums);
   }
@@ -394,10 +397,29 @@ bool set_simd_pairs(bool enabled) {
   return simd_pairs();
 }
 
-BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
-                                 std::vector<BlockSums>& blocks) {
-  const int team = in.parallel ? omp_get_max_threads() : 1;
-  if (pairs.team != team) plan_team(pairs, static_cast<int>(disks.size()), team);
+void plan_parts(PairArrays& pairs, std::size_t n, int team, bool periodic) {
+  plan_team(pairs, static_cast<int>(n), team, !periodic);
+}
+
+std::array<int, 2> part_disks(std::size_t n, int part, int team) {
+  const int nb = block_count(n), end = static_cast<int>(n);
+  return {std::min(end, part_begin(nb, part, team) * block_size),
+          std::min(end, part_begin(nb, part + 1, team) * block_size)};
+}
+
+void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks) {
+  const int nb = block_count(n);
+  blocks.resize(2 * static_cast<std::size_t>(nb));
+  pairs.block_closed.resize(nb);
+  pairs.block_opened.resize(nb);
+}
+
+BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n) {
+  return add_blocks(blocks, 2 * block_count(n));
+}
+
+void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
+                         const ForceInputs& in, std::vector<BlockSums>& blocks) {
   const Cell cell = cell_of(in);
   // With the kick, the first half kick (kick_drift) has cleared the sums after using them.
   const auto clear = [&](int first, int end) {
@@ -429,13 +451,11 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
                  : RowSums{disks.fx[i], disks.fy[i], disks.fvx[i], disks.fvy[i], disks.torque[i]};
     finish_disk(disks, in, cell, i, false, s, sums);
   };
-  return run(disks, pairs, in, blocks, clear, rows, finish);
+  run_part(member, disks, pairs, blocks, clear, rows, finish);
 }
 
-BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
-                                 std::vector<BlockSums>& blocks) {
-  // The split of the force pass that listed the closed pairs (its slots are current).
-  if (pairs.team == 0) plan_team(pairs, static_cast<int>(disks.size()), 1);
+void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
+                         const ForceInputs& in, std::vector<BlockSums>& blocks) {
   const Cell cell = cell_of(in);
   const auto clear = [](int, int) {};  // the force pass with the kick left zeros
   const auto rows = [&](int b, int first, int end, BlockSums& sums) {
@@ -449,7 +469,21 @@ BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const For
     if (in.periodic && !gathered) return;  // the sums are complete already
     finish_disk(disks, in, cell, i, true, s, sums);
   };
-  return run(disks, pairs, in, blocks, clear, rows, finish);
+  run_part(member, disks, pairs, blocks, clear, rows, finish);
+}
+
+BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+                                 std::vector<BlockSums>& blocks) {
+  SpinBarrier barrier;
+  const std::size_t n = disks.size();
+  on_team(
+      in.parallel ? omp_get_max_threads() : 1, barrier,
+      [&](int team) {
+        if (pairs.team != team) plan_parts(pairs, n, team, in.periodic);
+        size_passes(n, pairs, blocks);
+      },
+      [&](const TeamMember& member) { contact_forces_part(member, disks, pairs, in, blocks); });
+  return sum_blocks(blocks, n);
 }
 
 }  // namespace granstab::dynamic

@@ -4,10 +4,12 @@
 // (added as the rows are swept, or gathered from per-pair slots after a barrier for the few
 // disks that have partners in another thread's part): the result is independent of the thread
 // count and of when the Verlet list was last rebuilt (open pairs contribute nothing).
+#include <array>
 #include <vector>
 
 #include "common/material.hpp"
 #include "state.hpp"
+#include "team.hpp"
 
 namespace granstab::dynamic {
 
@@ -31,18 +33,40 @@ struct ForceInputs {
   bool kick = false;
 };
 
-// Elastic, frictional and viscous forces; updates delta_t of pairs and walls. Sums (stress,
-// wall forces) of the whole sample are returned; blocks is scratch space. With in.kick the
-// per-disk sums fx, fy, fvx, fvy, torque must be zero on entry (kick_drift leaves them so),
-// and fvx, fvy are zero again on return (they are what compute_viscous_forces adds into).
+// Elastic, frictional and viscous forces of a state (no increment of delta_t unless in.dt > 0),
+// on a team of its own (in.parallel) or the calling thread. Sums (stress, wall forces) of the
+// whole sample are returned; blocks is scratch space.
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
                                  std::vector<BlockSums>& blocks);
 
+// --- the passes of a time step, run by a team inside one parallel region (engine.cpp) -------
+// The team's parts: part k of a team of T holds the blocks [nb k / T, nb (k + 1) / T) (nb
+// blocks of block_size disks), whatever the pass, so that each thread keeps its disks' data in
+// its core's cache. plan_parts finds the gathered disks of the split (after every list
+// rebuild and for a new team size); size_passes sizes the per-block scratch.
+void plan_parts(PairArrays& pairs, std::size_t n, int team, bool periodic);
+std::array<int, 2> part_disks(std::size_t n, int part, int team);  // [first, end)
+void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks);
+
+// The force pass of the member's part (pairs.team must be member.threads): updates delta_t,
+// writes the per-disk sums and the per-block sums into blocks; with in.kick the per-disk sums
+// must be zero on entry (kick_drift leaves them so), the disks get their second half kick as
+// soon as their sums are complete, and fvx, fvy are left zero (viscous_forces_part adds into
+// them). Contains a barrier of the team when some block is gathered. After a barrier of the
+// team, sum_blocks gives the sums of the sample.
+void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
+                         const ForceInputs& in, std::vector<BlockSums>& blocks);
+
 // The viscous forces alone, for the velocities in.vx_viscous / in.rate_viscous, with the
-// contact geometry of the last compute_contact_forces, which must have been run with in.kick
-// (fills disks.fvx, fvy; it adds into the zeros that pass left).
-BlockSums compute_viscous_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
-                                 std::vector<BlockSums>& blocks);
+// contact geometry of the last contact_forces_part, which must have been run with in.kick
+// (fills disks.fvx, fvy). Contains a barrier when some block is gathered; in a periodic cell
+// the block sums are complete when it returns (walls: after one more barrier).
+void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
+                         const ForceInputs& in, std::vector<BlockSums>& blocks);
+
+// The sample's sums of the last pass: the block sums added in block order (the same bits on
+// every thread and for every team size).
+BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n);
 
 // Whether the force pass of a time step runs its distance tests and contact laws in the SIMD
 // kernel (contact_forces_simd.hpp; AVX-512, chosen at run time) rather than in the scalar pair

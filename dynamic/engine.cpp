@@ -1,5 +1,8 @@
 #include "engine.hpp"
 
+#include <omp.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -124,16 +127,17 @@ void Engine::import_contacts(const Contacts& c) {
   }
 }
 
-ForceInputs Engine::force_inputs(double dt_tangential, bool mid_step) const {
+ForceInputs Engine::force_inputs(const dynamic::CellState& cell, double dt_tangential,
+                                 bool mid_step) const {
   ForceInputs in;
   in.material = &material_;
-  in.periodic = cell_.periodic();
-  in.length = cell_.length;
+  in.periodic = cell.periodic();
+  in.length = cell.length;
   in.dt = dt_tangential;
   for (int a = 0; a < 2; ++a) {
-    const double scale = in.periodic ? 1.0 / cell_.length[a] : 1.0;
-    in.rate_tangential[a] = cell_.length_rate[a] * scale;
-    in.rate_viscous[a] = (mid_step ? cell_.rate_predicted[a] : cell_.length_rate[a]) * scale;
+    const double scale = in.periodic ? 1.0 / cell.length[a] : 1.0;
+    in.rate_tangential[a] = cell.length_rate[a] * scale;
+    in.rate_viscous[a] = (mid_step ? cell.rate_predicted[a] : cell.length_rate[a]) * scale;
   }
   in.vx_viscous = mid_step ? disks_.vpx.data() : disks_.vx.data();
   in.vy_viscous = mid_step ? disks_.vpy.data() : disks_.vy.data();
@@ -142,45 +146,147 @@ ForceInputs Engine::force_inputs(double dt_tangential, bool mid_step) const {
 }
 
 void Engine::evaluate_state() {
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(0.0, false), blocks_);
-  control_cell();
+  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(cell_, 0.0, false), blocks_);
+  control_cell(cell_, sums_);
 }
 
-void Engine::control_cell() {
+void Engine::control_cell(dynamic::CellState& cell, const BlockSums& sums) const {
   const dynamic::ControlForces f =
-      dynamic::control_forces(cell_, sums_, options_.viscous_forces_drive_cell);
-  cell_.length_acceleration = dynamic::length_acceleration(cell_, stage_, f);
+      dynamic::control_forces(cell, sums, options_.viscous_forces_drive_cell);
+  cell.length_acceleration = dynamic::length_acceleration(cell, stage_, f);
 }
 
-void Engine::refresh_viscous_forces() {
-  // zeta = 0: alpha = 0, the viscous forces are exact zeros (and fvx, fvy hold zeros already).
-  if (material_.zeta == 0.0) return;
-  const BlockSums v =
-      dynamic::compute_viscous_forces(disks_, pairs_, force_inputs(0.0, false), blocks_);
-  sums_.sigma_viscous = v.sigma_viscous;
-  sums_.wall_force_viscous = v.wall_force_viscous;
-  control_cell();
-}
+void Engine::step() { run(1); }
 
 // Velocity Verlet. The first half kick and the drift belong to the integrator; the forces at
 // t + dt need the velocities at t + dt only through the viscous term, which is evaluated with
 // predicted velocities and then refreshed with the final ones so that the cached forces are a
 // function of the synchronous state (docs/dynamic.md).
-void Engine::step() {
-  dynamic::kick_drift(disks_, cell_, stage_, dt_, neighbours_, parallel());
-  neighbours_.update(disks_, cell_, pairs_, material_);
-  ForceInputs in = force_inputs(dt_, true);
-  in.kick = true;  // the disks' second half kick, as each disk's forces are complete
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, in, blocks_);
-  control_cell();
-  dynamic::kick_cell(cell_, stage_, dt_);
-  refresh_viscous_forces();
-  ++step_;
-  time_ += dt_;
+//
+// The whole run is one parallel region (docs/dynamic.md, "Performance"): each thread drifts,
+// sweeps and kicks the disks of its own part in every pass of every step, and the team meets
+// at the barriers the data flow needs: after the drift (partners' positions, the displacement
+// maximum), inside the passes when blocks are gathered, after the force pass (the stress sums
+// the cell's control needs, the final velocities the viscous refresh reads). The cell's state
+// is a few numbers: every thread computes it alike from the same sums (same bits), so no
+// thread waits for another to do it.
+void Engine::run(std::uint64_t steps) {
+  if (steps == 0) return;
+  const std::size_t n = disks_.size();
+  const auto prepare = [&](int team) {
+    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, team, cell_.periodic());
+    dynamic::size_passes(n, pairs_, blocks_);
+    viscous_blocks_.resize(blocks_.size());
+    team_slots_.resize(team);
+    wakeup_.reset();
+  };
+  dynamic::on_team(parallel() ? omp_get_max_threads() : 1, barrier_, prepare,
+                   [&](const dynamic::TeamMember& member) { advance(member, steps); });
 }
 
-void Engine::run(std::uint64_t steps) {
-  for (std::uint64_t s = 0; s < steps; ++s) step();
+// A team whose threads the OS keeps on one CPU (a loaded machine: Linux wakes a sleeping thread
+// on its waker's CPU when the other is busy) is slower than one thread: it does the same work
+// plus the barriers, on one core. After `colocated_steps` such steps in a row, thread 0 runs all
+// parts alone (the same sweep order, so the same bits) for EngineOptions::alone_steps steps
+// while the others sleep, then wakes them: if the OS now puts them on another CPU, the team goes
+// on (docs/dynamic.md, "Performance").
+namespace {
+constexpr int colocated_steps = 16;
+}  // namespace
+
+void Engine::advance(const dynamic::TeamMember& member, std::uint64_t steps) {
+  Local local{cell_, sums_, neighbours_.rebuild_test(), 0.0};
+  dynamic::TeamMember alone = member;
+  alone.threads = 1;
+  alone.part_first = 0;
+  alone.part_end = member.threads;
+  int colocated = 0;
+  std::uint32_t hand_backs = 0;
+  std::uint64_t s = 0;
+  while (s < steps) {
+    colocated = step_on(member, local) ? colocated + 1 : 0;
+    ++s;
+    if (colocated < colocated_steps || s == steps) continue;
+    colocated = 0;
+    ++hand_backs;
+    member.sync();  // the others finish the step (their gathered disks) before thread 0 takes over
+    if (member.thread == 0) {
+      const std::uint64_t alone_steps = options_.alone_steps > 0
+                                            ? options_.alone_steps
+                                            : std::max<std::uint64_t>(64, 4'000'000 / size());
+      const std::uint64_t end = std::min(steps, s + alone_steps);
+      for (; s < end; ++s) step_on(alone, local);
+      hand_back_ = {local, s};
+      wakeup_.publish(hand_backs);
+    } else {
+      wakeup_.await(hand_backs);
+      local = hand_back_.local;
+      s = hand_back_.step;
+    }
+  }
+  // Threads other than 0 read cell_ and sums_ only before their first barrier (or hand-back),
+  // which thread 0 has passed too.
+  if (member.thread == 0) {
+    cell_ = local.cell;
+    sums_ = local.sums;
+    neighbours_.set_max_displacement_squared(local.max_d2);
+  }
+}
+
+// One step on the member's parts; returns whether the whole team ran it on one CPU.
+bool Engine::step_on(const dynamic::TeamMember& member, Local& local) {
+  const std::size_t n = disks_.size();
+  const int parts = pairs_.team;
+  const int first = dynamic::part_disks(n, member.part_first, parts)[0];
+  const int end = dynamic::part_disks(n, member.part_end - 1, parts)[1];
+  dynamic::CellState& cell = local.cell;
+  BlockSums& sums = local.sums;
+  const bool team = member.threads > 1;
+  if (team) team_slots_[member.thread].cpu = sched_getcpu();
+  const std::array<double, 2> lambda = dynamic::kick_drift_cell(cell, stage_, dt_);
+  const double d2 = dynamic::kick_drift_disks(disks_, cell, lambda, dt_, neighbours_, first, end);
+  team_slots_[member.thread].max_d2 = d2;
+  member.sync();
+  // Read between this barrier and the next, before any thread writes its slot again.
+  local.max_d2 = d2;
+  bool colocated = team;
+  if (team) {
+    for (int t = 0; t < member.threads; ++t) {
+      local.max_d2 = std::max(local.max_d2, team_slots_[t].max_d2);
+      colocated &= team_slots_[t].cpu == team_slots_[0].cpu;
+    }
+  }
+  if (local.rebuild_test(cell, local.max_d2)) {
+    if (member.thread == 0) {
+      neighbours_.rebuild(disks_, cell, pairs_, material_);
+      dynamic::plan_parts(pairs_, n, parts, cell.periodic());
+    }
+    member.sync();
+    local.rebuild_test = neighbours_.rebuild_test();
+  }
+  ForceInputs in = force_inputs(cell, dt_, true);
+  in.kick = true;  // the disks' second half kick, as each disk's forces are complete
+  dynamic::contact_forces_part(member, disks_, pairs_, in, blocks_);
+  member.sync();
+  sums = dynamic::sum_blocks(blocks_, n);
+  control_cell(cell, sums);
+  dynamic::kick_cell(cell, stage_, dt_);
+  // The viscous forces of the final velocities (zeta = 0: alpha = 0, they are exact zeros,
+  // and fvx, fvy hold zeros already).
+  if (material_.zeta != 0.0) {
+    dynamic::viscous_forces_part(member, disks_, pairs_, force_inputs(cell, 0.0, false),
+                                 viscous_blocks_);
+    if (!cell.periodic()) member.sync();  // the gathered disks' wall forces
+    const BlockSums v = dynamic::sum_blocks(viscous_blocks_, n);
+    sums.sigma_viscous = v.sigma_viscous;
+    sums.wall_force_viscous = v.wall_force_viscous;
+    control_cell(cell, sums);
+  }
+  if (member.thread == 0) {
+    ++step_;
+    time_ += dt_;
+  }
+  return colocated;
 }
 
 void Engine::set_dt(double dt) {

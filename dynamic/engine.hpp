@@ -34,6 +34,9 @@ struct EngineOptions {
   // (and on a loaded machine, waiting for a descheduled thread costs whole time slices). The
   // results are the same bits either way (docs/dynamic.md, "Determinism"; bench/README.md).
   std::size_t parallel_min_disks = 4096;
+  // Steps a team that the OS keeps on one CPU runs on one thread before it tries again (see
+  // Engine::run); 0: 4e6 / N, about 0.2 s on the test machine. Same bits either way.
+  std::uint64_t alone_steps = 0;
 };
 
 class Engine {
@@ -114,9 +117,20 @@ class Engine {
   bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
   void evaluate_state();  // forces and cell acceleration of the current state (no increment)
   bool apply_stage(const Stage& stage);
-  void control_cell();
-  void refresh_viscous_forces();
-  dynamic::ForceInputs force_inputs(double dt_tangential, bool end_of_step) const;
+  void control_cell() { control_cell(cell_, sums_); }
+  void control_cell(dynamic::CellState& cell, const dynamic::BlockSums& sums) const;
+  // A thread's copy of the state the team computes alike (same bits on every thread).
+  struct Local {
+    dynamic::CellState cell;
+    dynamic::BlockSums sums;
+    dynamic::NeighbourList::RebuildTest rebuild_test;
+    double max_d2 = 0.0;  // largest displacement since the list build, squared
+  };
+  // One thread's share of run(steps), inside the team's parallel region.
+  void advance(const dynamic::TeamMember& member, std::uint64_t steps);
+  bool step_on(const dynamic::TeamMember& member, Local& local);
+  dynamic::ForceInputs force_inputs(const dynamic::CellState& cell, double dt_tangential,
+                                    bool mid_step) const;
   void import_contacts(const Contacts& contacts);
 
   EngineOptions options_;
@@ -127,7 +141,23 @@ class Engine {
   dynamic::CellState cell_;
   dynamic::NeighbourList neighbours_;
   dynamic::BlockSums sums_;  // elastic sums of the last force pass + viscous of the state
-  std::vector<dynamic::BlockSums> blocks_;
+  // Per-block sums of the force pass and of the viscous refresh: apart, so that a thread may
+  // start the refresh while another still adds the force pass's sums.
+  std::vector<dynamic::BlockSums> blocks_, viscous_blocks_;
+  // The team of run(): its barrier; each thread's largest displacement of the step and CPU (one
+  // cache line each, written by its thread, read by all after the barrier); where threads
+  // sleep while thread 0 runs alone, and the state it hands back to them.
+  dynamic::SpinBarrier barrier_;
+  struct alignas(64) TeamSlot {
+    double max_d2 = 0.0;
+    int cpu = -1;
+  };
+  std::vector<TeamSlot> team_slots_;
+  dynamic::Wakeup wakeup_;
+  struct HandBack {
+    Local local;
+    std::uint64_t step = 0;
+  } hand_back_;
   double dt_ = 0.0, time_scale_ = 0.0, time_ = 0.0;
   std::uint64_t step_ = 0;
   std::string rng_state_;

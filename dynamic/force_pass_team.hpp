@@ -1,13 +1,14 @@
 #pragma once
 // The force pass's split over the team (parts, gathered blocks, sums), apart from the pair physics.
 // Included by contact_forces.cpp only, in an anonymous namespace: the force pass stays one
-// translation unit, so the compiler inlines the sweeps and gather() into run().
+// translation unit, so the compiler inlines the sweeps and gather() into run_part().
 #include <omp.h>
 
 #include <algorithm>
 #include <vector>
 
 #include "contact_forces.hpp"
+#include "team.hpp"
 
 namespace granstab::dynamic {
 namespace {
@@ -59,10 +60,12 @@ int part_begin(int blocks, int part, int team) {
   return static_cast<int>(static_cast<long long>(blocks) * part / team);
 }
 
-// Which blocks a split into `team` parts must gather (see PairArrays): those with a disk whose
-// first partner (smallest i of its column) lies before the start of its part.
-void plan_team(PairArrays& pairs, int n, int team) {
+// Which disks a split into `team` parts must gather (see PairArrays): those whose first partner
+// (smallest i of its column) lies before the start of their part. With walls, whole blocks:
+// a block's disk sums (the walls') are then added in disk order after the barrier.
+void plan_team(PairArrays& pairs, int n, int team, bool whole_blocks) {
   const int nb = block_count(static_cast<std::size_t>(n));
+  pairs.gathered.assign(n, 0);
   pairs.block_gathered.assign(nb, 0);
   pairs.any_gathered = false;
   for (int part = 0; part < team; ++part) {
@@ -71,68 +74,72 @@ void plan_team(PairArrays& pairs, int n, int team) {
     for (int k = part_first; k < std::min(n, b1 * block_size); ++k) {
       const int s = pairs.column_start[k];
       if (s < pairs.column_start[k + 1] && pairs.i[pairs.column_pair[s]] < part_first) {
+        pairs.gathered[k] = 1;
         pairs.block_gathered[k / block_size] = 1;
         pairs.any_gathered = true;
       }
     }
   }
+  if (whole_blocks) {
+    for (int k = 0; k < n; ++k) pairs.gathered[k] = pairs.block_gathered[k / block_size];
+  }
   pairs.slotted.resize(pairs.size());
   pairs.block_slotted.assign(nb, 0);
   for (std::size_t p = 0; p < pairs.size(); ++p) {
-    pairs.slotted[p] = pairs.block_gathered[pairs.i[p] / block_size] |
-                       pairs.block_gathered[pairs.j[p] / block_size];
+    pairs.slotted[p] = pairs.gathered[pairs.i[p]] | pairs.gathered[pairs.j[p]];
     pairs.block_slotted[pairs.i[p] / block_size] |= pairs.slotted[p];
   }
   pairs.team = team;
+  pairs.whole_blocks = whole_blocks;
 }
 
-// One pass over the pairs on the team: part k's thread clears its disks' sums, sweeps the rows
-// of its blocks and completes each block that is not gathered; after a barrier (only if some
-// block is gathered) the gathered blocks are completed from the slots. Per-block sums are added
-// in block order (pairs first, then disks), so every reduction is thread-independent.
+// One thread's share of a pass over the pairs (its part: a fixed range of whole blocks): it
+// clears its disks' sums, sweeps the rows of its blocks and completes each disk that is not
+// gathered after its block's rows; after a barrier (only if some disk is gathered) it completes
+// its gathered disks from the slots. Per-block sums go to `blocks` (pairs first, then disks);
+// sum_blocks adds them in block order, so every reduction is thread-independent. Periodic cells
+// have no disk sums (those are the walls'): the zeros of the blocks with gathered disks are written
+// before the barrier, so that after it only the disks' own arrays are still being written and the
+// team may take the sums.
 template <class Clear, class Rows, class Finish>
-BlockSums run(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
               std::vector<BlockSums>& blocks, Clear clear, Rows rows, Finish finish) {
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
-  blocks.resize(2 * static_cast<std::size_t>(nb));
-  pairs.block_closed.resize(nb);
-  pairs.block_opened.resize(nb);
-  const int team = pairs.team;
-#pragma omp parallel num_threads(team) if (in.parallel)
-  {
-    // Parts are fixed by the plan; a smaller team than planned runs several parts per thread.
-    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
-    for (int part = t; part < team; part += threads) {
-      const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
-      clear(b0 * block_size, std::min(n, b1 * block_size));
-      for (int b = b0; b < b1; ++b) {
-        const int first = b * block_size, end = std::min(n, first + block_size);
-        BlockSums sums;
-        rows(b, first, end, sums);
-        blocks[b] = sums;
-        if (!pairs.block_gathered[b]) {
-          BlockSums disk_sums;
-          for (int i = first; i < end; ++i) finish(i, false, disk_sums);
-          blocks[nb + b] = disk_sums;
-        }
+  const int b0 = part_begin(nb, member.part_first, pairs.team);
+  const int b1 = part_begin(nb, member.part_end, pairs.team);
+  clear(b0 * block_size, std::min(n, b1 * block_size));
+  // A thread running several parts sweeps them in order: the running sums of a disk then get
+  // their additions in the order of one thread's sweep, and a gathered disk's slots are all
+  // written before the (skipped) barrier.
+  for (int b = b0; b < b1; ++b) {
+    const int first = b * block_size, end = std::min(n, first + block_size);
+    BlockSums sums;
+    rows(b, first, end, sums);
+    blocks[b] = sums;
+    if (!pairs.block_gathered[b]) {
+      BlockSums disk_sums;
+      for (int i = first; i < end; ++i) finish(i, false, disk_sums);
+      blocks[nb + b] = disk_sums;
+    } else if (!pairs.whole_blocks) {  // periodic: no disk sums
+      BlockSums none;
+      for (int i = first; i < end; ++i) {
+        if (!pairs.gathered[i]) finish(i, false, none);
       }
-    }
-    if (pairs.any_gathered) {
-#pragma omp barrier
-      for (int part = t; part < team; part += threads) {
-        const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
-        for (int b = b0; b < b1; ++b) {
-          if (!pairs.block_gathered[b]) continue;
-          const int first = b * block_size, end = std::min(n, first + block_size);
-          BlockSums disk_sums;
-          for (int i = first; i < end; ++i) finish(i, true, disk_sums);
-          blocks[nb + b] = disk_sums;
-        }
-      }
+      blocks[nb + b] = BlockSums{};
     }
   }
-  return add_blocks(blocks, 2 * nb);
+  if (!pairs.any_gathered) return;
+  member.sync();
+  for (int b = b0; b < b1; ++b) {
+    if (!pairs.block_gathered[b]) continue;
+    const int first = b * block_size, end = std::min(n, first + block_size);
+    BlockSums disk_sums;
+    for (int i = first; i < end; ++i) {
+      if (pairs.gathered[i]) finish(i, true, disk_sums);
+    }
+    if (pairs.whole_blocks) blocks[nb + b] = disk_sums;
+  }
 }
 
 }  // namespace

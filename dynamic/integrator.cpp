@@ -7,8 +7,7 @@
 
 namespace granstab::dynamic {
 
-void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
-                NeighbourList& neighbours, bool parallel) {
+std::array<double, 2> kick_drift_cell(CellState& cell, const Stage& stage, double dt) {
   const double half = 0.5 * dt;
   std::array<double, 2> lambda{1.0, 1.0};
   for (int a = 0; a < 2; ++a) {
@@ -23,6 +22,12 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
     cell.length[a] += dt * cell.length_rate[a];
     if (cell.periodic()) lambda[a] = cell.length[a] / old_length;
   }
+  return lambda;
+}
+
+double kick_drift_disks(DiskArrays& d, const CellState& cell, std::array<double, 2> lambda,
+                        double dt, const NeighbourList& neighbours, int first, int end) {
+  const double half = 0.5 * dt;
   const bool periodic = cell.periodic();
   const double l1 = cell.length[0], l2 = cell.length[1];
   // Non-affine displacement since the build: in reduced coordinates, times current lengths.
@@ -30,7 +35,6 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   const double ux = periodic ? l1 : 1.0, uy = periodic ? l2 : 1.0;
   const double* ref_x = neighbours.reference_x().data();
   const double* ref_y = neighbours.reference_y().data();
-  const int n = static_cast<int>(d.size());
   const double lambda_x = lambda[0], lambda_y = lambda[1];
   double* const x = d.x.data();
   double* const y = d.y.data();
@@ -48,8 +52,7 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
   const double* const inv_mass = d.inv_mass.data();
   const double* const inv_inertia = d.inv_inertia.data();
   double max_d2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_d2) if (parallel)
-  for (int i = 0; i < n; ++i) {
+  for (int i = first; i < end; ++i) {
     const double ax = (fx[i] + fvx[i]) * inv_mass[i];
     const double ay = (fy[i] + fvy[i]) * inv_mass[i];
     const double vx_half = vx[i] + half * ax, vy_half = vy[i] + half * ay;
@@ -79,7 +82,7 @@ void kick_drift(DiskArrays& d, CellState& cell, const Stage& stage, double dt,
     ey *= uy;
     max_d2 = std::max(max_d2, ex * ex + ey * ey);
   }
-  neighbours.set_max_displacement_squared(max_d2);
+  return max_d2;
 }
 
 void kick_cell(CellState& cell, const Stage& stage, double dt) {

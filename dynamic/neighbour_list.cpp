@@ -10,19 +10,21 @@ namespace granstab::dynamic {
 // disk moved by at most D (non-affine part, measured in reduced coordinates times the current
 // lengths), so |l| >= lambda_min (R_i + R_j + skin) - 2 D, which stays above R_i + R_j as long
 // as 2 D + (1 - lambda_min) 2 R_max < lambda_min skin.
-bool NeighbourList::needs_rebuild(const CellState& cell) const {
-  if (!built_) return true;
+bool NeighbourList::RebuildTest::operator()(const CellState& cell, double max_displacement2) const {
+  if (!built) return true;
   double lambda_min = 1.0;
   if (cell.periodic()) {
-    for (int a = 0; a < 2; ++a) lambda_min = std::min(lambda_min, cell.length[a] / ref_length_[a]);
+    for (int a = 0; a < 2; ++a) {
+      lambda_min = std::min(lambda_min, cell.length[a] / reference_length[a]);
+    }
   }
-  const double d = std::sqrt(max_displacement2_);
-  return 2.0 * d + (1.0 - lambda_min) * 2.0 * r_max_ >= lambda_min * skin_;
+  const double d = std::sqrt(max_displacement2);
+  return 2.0 * d + (1.0 - lambda_min) * 2.0 * r_max >= lambda_min * skin;
 }
 
 bool NeighbourList::update(DiskArrays& disks, const CellState& cell, PairArrays& pairs,
                            const Material& material) {
-  if (!needs_rebuild(cell)) return false;
+  if (!rebuild_test()(cell, max_displacement2_)) return false;
   rebuild(disks, cell, pairs, material);
   return true;
 }

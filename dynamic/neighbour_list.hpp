@@ -14,10 +14,22 @@ namespace granstab::dynamic {
 
 class NeighbourList {
  public:
+  // The rebuild test of the current list as a value: each thread of a team keeps a copy, so
+  // that one thread may rebuild while the others still test (engine.cpp).
+  struct RebuildTest {
+    bool built = false;
+    double skin = 0.0, r_max = 0.0;
+    std::array<double, 2> reference_length{1.0, 1.0};
+    // Whether an unlisted pair could touch, given the largest non-affine displacement since
+    // the build (squared, in current lengths).
+    bool operator()(const CellState& cell, double max_displacement2) const;
+  };
+
   explicit NeighbourList(double skin = 0.1) : skin_(skin) {}
   double skin() const { return skin_; }
   std::uint64_t rebuild_count() const { return rebuilds_; }
 
+  RebuildTest rebuild_test() const { return {built_, skin_, r_max_, ref_length_}; }
   // Rebuilds if needed; returns true if it did.
   bool update(DiskArrays& disks, const CellState& cell, PairArrays& pairs,
               const Material& material);
@@ -32,7 +44,6 @@ class NeighbourList {
   const std::array<double, 2>& reference_length() const { return ref_length_; }
 
  private:
-  bool needs_rebuild(const CellState& cell) const;
   double skin_;
   double r_max_ = 0.0;
   double max_displacement2_ = 0.0;

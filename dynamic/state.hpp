@@ -33,7 +33,7 @@ struct DiskArrays {
 // incidence (for each disk, the pairs where it is j, ascending i). Every disk sums its pair
 // forces in ascending partner order whatever the list holds (see docs/dynamic.md,
 // "Determinism"): the force pass adds each pair's force to both disks as it goes (rows in
-// ascending i do exactly that order), except for the disks of "gathered" blocks (below).
+// ascending i do exactly that order), except for the "gathered" disks (below).
 struct PairArrays {
   std::vector<std::int32_t> i, j;
   std::vector<std::int32_t> row_start;                  // N + 1
@@ -56,12 +56,15 @@ struct PairArrays {
   // pairs that opened during the step from the end (written by the force pass).
   std::vector<std::int32_t> active, block_closed, block_opened;
   // Split of the blocks between `team` parts (part k: blocks [nb k / team, nb (k + 1) / team),
-  // each run by one thread). A block is gathered when one of its disks has a partner in an
-  // earlier part: such a disk would receive forces from two threads. team = 0: not planned
-  // for this list yet (see contact_forces.cpp).
+  // each run by one thread). A disk is gathered when it has a partner in an earlier part: it
+  // would receive forces from two threads. With walls whole blocks are gathered (whole_blocks),
+  // so that a block's disk sums keep their order. team = 0: not planned for this list yet (see
+  // contact_forces.cpp).
   int team = 0;
-  bool any_gathered = false;
-  std::vector<std::uint8_t> block_gathered, slotted;  // per block, per pair
+  bool any_gathered = false, whole_blocks = false;
+  std::vector<std::uint8_t> gathered;        // per disk
+  std::vector<std::uint8_t> block_gathered;  // per block: whether one of its disks is gathered
+  std::vector<std::uint8_t> slotted;         // per pair: i or j gathered
   // Per block: whether one of its rows has a slotted pair. Only such blocks sweep their rows
   // with the checks for slots and gathered partners; the others (all but a few at the part
   // boundaries) take the plain sweep, which does the same additions.

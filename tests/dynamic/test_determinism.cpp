@@ -2,6 +2,7 @@
 // exported to a Configuration and read back continues exactly as the uninterrupted run.
 #include <gtest/gtest.h>
 #include <omp.h>
+#include <sched.h>
 
 #include <cstring>
 
@@ -83,6 +84,34 @@ TEST(Determinism, OneAndTwoThreadsAgree) {
 
 // Below EngineOptions::parallel_min_disks the loops run on the calling thread: same bits as the
 // team (the default threshold, 4096, is above these 400 disks).
+// Two threads that the OS keeps on one CPU (here: bound to the first allowed one) hand the step
+// to one of them for a while (EngineOptions::alone_steps) and take it back as a team: the same
+// bits as one thread, through every hand-over.
+TEST(Determinism, ATeamOnOneCpuRunsAloneWithTheSameBits) {
+  cpu_set_t all;
+  ASSERT_EQ(sched_getaffinity(0, sizeof all, &all), 0);
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (CPU_ISSET(c, &all)) {
+      CPU_SET(c, &one);
+      break;
+    }
+  }
+  const auto bind_team = [](const cpu_set_t& set) {
+#pragma omp parallel num_threads(2)
+    sched_setaffinity(0, sizeof set, &set);
+  };
+  omp_set_num_threads(2);
+  bind_team(one);
+  const Configuration start = gas();
+  EngineOptions options = team_options();
+  options.alone_steps = 20;  // many hand-overs in 1500 steps (16 shared steps start one)
+  const Configuration shared = run(start, 2, 1500, 0, options);
+  bind_team(all);
+  expect_identical(shared, run(start, 1, 1500));
+}
+
 TEST(Determinism, ParallelThresholdDoesNotChangeBits) {
   const Configuration start = gas();
   ASSERT_LT(start.disks.size(), EngineOptions{}.parallel_min_disks);

@@ -1,0 +1,135 @@
+#pragma once
+// The thread team of a run (issue #23): one parallel region for a whole Engine::run, each
+// thread keeping the same part of the disks for every pass and every step, and a barrier of
+// its own between the passes. libgomp's barrier sleeps at once under OMP_WAIT_POLICY=passive
+// (10-20 us to wake a thread here, against a step of ~140 us at N = 5600 on two threads); this
+// one spins briefly, then yields, and only then sleeps (see wait()). Also where the team sleeps
+// while one thread runs it alone (Wakeup; engine.cpp).
+#include <omp.h>
+#include <sched.h>
+
+#include <atomic>
+#include <cstdint>
+
+namespace granstab::dynamic {
+
+class SpinBarrier {
+ public:
+  SpinBarrier() = default;
+  // A barrier holds nothing between two runs of a team: copies (of an Engine) start afresh.
+  SpinBarrier(const SpinBarrier&) {}
+  SpinBarrier& operator=(const SpinBarrier&) { return *this; }
+  // Sets the team size; call while no thread waits (before the team starts).
+  void reset(int threads) {
+    threads_ = threads;
+    arrived_.store(0, std::memory_order_relaxed);
+  }
+  int threads() const { return threads_; }
+
+  // Returns once every thread of the team has called wait(). What a thread wrote before it
+  // called wait() is visible to every thread after it returns (release / acquire through the
+  // arrival counter and the generation).
+  void wait() {
+    if (threads_ <= 1) return;
+    // Read before arriving: the generation cannot change until this thread has arrived.
+    const std::uint32_t gen = generation_.load(std::memory_order_relaxed);
+    if (arrived_.fetch_add(1, std::memory_order_acq_rel) == threads_ - 1) {
+      arrived_.store(0, std::memory_order_relaxed);
+      generation_.store(gen + 1, std::memory_order_release);
+      generation_.notify_all();  // no system call unless a thread sleeps
+      return;
+    }
+    for (int k = 0; k < spin_iterations; ++k) {
+      if (generation_.load(std::memory_order_acquire) != gen) return;
+      pause();
+    }
+    for (int k = 0; k < yield_iterations; ++k) {
+      if (generation_.load(std::memory_order_acquire) != gen) return;
+      sched_yield();
+    }
+    while (generation_.load(std::memory_order_acquire) == gen) {
+      generation_.wait(gen, std::memory_order_acquire);
+    }
+  }
+
+ private:
+  // ~3 us of pause instructions (9 ns each on the Xeon of the test VM): two threads on two
+  // cores arrive within that in most passes. Then yields: when both threads share one CPU
+  // (a loaded machine: Linux keeps waking threads on the waker's CPU) this hands it to the
+  // partner at once, where spinning would burn the time slice it waits for (10 us of spinning
+  // made two threads 25 % slower there, 100 us three to twenty times). Then sleep.
+  static constexpr int spin_iterations = 300;
+  static constexpr int yield_iterations = 1000;
+  static void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+  // The counter and the generation on cache lines of their own: the spinning threads read the
+  // generation only, and the arrivals do not invalidate it until the last one.
+  alignas(64) std::atomic<int> arrived_{0};
+  alignas(64) std::atomic<std::uint32_t> generation_{0};
+  alignas(64) int threads_ = 1;
+};
+
+// Where the threads of a team that one thread runs alone sleep (engine.cpp): until that thread
+// has published its k-th hand-back. Sleeps at once (futex): the point is to leave the CPU.
+class Wakeup {
+ public:
+  Wakeup() = default;
+  Wakeup(const Wakeup&) {}  // holds nothing between two runs
+  Wakeup& operator=(const Wakeup&) { return *this; }
+  void reset() { count_.store(0, std::memory_order_relaxed); }
+  void publish(std::uint32_t k) {
+    count_.store(k, std::memory_order_release);
+    count_.notify_all();
+  }
+  void await(std::uint32_t k) const {
+    for (std::uint32_t c = count_.load(std::memory_order_acquire); c < k;
+         c = count_.load(std::memory_order_acquire)) {
+      count_.wait(c, std::memory_order_acquire);
+    }
+  }
+
+ private:
+  alignas(64) std::atomic<std::uint32_t> count_{0};
+};
+
+// One thread's view of the team inside the region: the parts it runs (a fixed range of whole
+// blocks each, PairArrays::team parts; its own one, or all of them when it runs alone) and the
+// team's barrier (threads: how many meet there).
+struct TeamMember {
+  int thread = 0;
+  int threads = 1;
+  int part_first = 0, part_end = 1;
+  SpinBarrier* barrier = nullptr;
+  void sync() const {
+    if (threads > 1) barrier->wait();
+  }
+};
+
+// Runs body(member) on every thread of a team of (at most) `threads`, in one parallel region,
+// after prepare(team) has run on one thread with the team's actual size (OpenMP may give
+// fewer threads than asked). threads <= 1: on the calling thread, no region.
+template <class Prepare, class Body>
+void on_team(int threads, SpinBarrier& barrier, Prepare prepare, Body body) {
+  if (threads <= 1) {
+    barrier.reset(1);
+    prepare(1);
+    body(TeamMember{0, 1, 0, 1, &barrier});
+    return;
+  }
+#pragma omp parallel num_threads(threads)
+  {
+    const int team = omp_get_num_threads();
+#pragma omp single
+    {
+      barrier.reset(team);
+      prepare(team);
+    }  // (implicit barrier)
+    const int t = omp_get_thread_num();
+    body(TeamMember{t, team, t, t + 1, &barrier});
+  }
+}
+
+}  // namespace granstab::dynamic
