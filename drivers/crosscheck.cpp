@@ -274,9 +274,10 @@ CrosscheckResult run_static_half(const Configuration& sample, const CrosscheckOp
   so.dq_min = std::min(so.dq_min, so.dq);
   so.control = statics::Control::stress;
   so.load_stop = options.q_max;
-  // States handed to other solvers (compare --probe-states, granstab probe) are those of fixed
-  // steps: one at every multiple of dq, where the adaptive control may interpolate rows instead.
-  if (so.on_accepted || options.probe.states > 0) so.steps = statics::StepControl::fixed;
+  // A caller that keeps states at given loads (granstab probe --at) needs one at every multiple
+  // of dq: fixed steps. compare --probe-states takes the first accepted state at or above each
+  // fraction of q1, which the adaptive control provides as well.
+  if (so.on_accepted) so.steps = statics::StepControl::fixed;
   if (options.probe.states > 0) {
     // compare --probe-states: the probed loads are fractions of q1, known only at the end.
     so.on_accepted = [&states = out.static_states, then = options.statics.on_accepted](

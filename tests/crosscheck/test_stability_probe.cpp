@@ -127,7 +127,8 @@ TEST(StabilityProbe, AStableStateStaysWithinTheBoundAndAStateOutOfEquilibriumMov
 namespace granstab::crosscheck {
 namespace {
 
-// compare --probe-states: K states at k q1 / K on the static run's grid, the last one at q1.
+// compare --probe-states: K states, the first computed ones at or above k q1 / K on the static
+// run's grid (adaptive steps: up to max_step_factor dq above), the last one at q1.
 TEST(StabilityProbe, CompareProbesStatesUpToTheEndOfTheStaticRun) {
   const Configuration sample = read_configuration(sample_path);
   CrosscheckOptions o = options();
@@ -135,9 +136,15 @@ TEST(StabilityProbe, CompareProbesStatesUpToTheEndOfTheStaticRun) {
   o.probe.states = 2;
   const CrosscheckResult r = run_static_half(sample, o);
   ASSERT_NEAR(r.statics.q1, 0.2, 1e-9);
+  EXPECT_EQ(r.statics.step_control, statics::StepControl::adaptive);
   const std::vector<ProbeResult> probes = probe_static_states(r, o);
   ASSERT_EQ(probes.size(), 2u);
-  EXPECT_NEAR(probes[0].q, 0.1, 1e-9);
+  EXPECT_GE(probes[0].q, 0.1 - 1e-9);
+  EXPECT_LE(probes[0].q, 0.1 + o.statics.max_step_factor * o.dq);
+  const bool computed = std::any_of(r.statics.curve.begin(), r.statics.curve.end(), [&](auto& p) {
+    return !p.interpolated && std::abs(p.load - probes[0].q) <= 1e-12;
+  });
+  EXPECT_TRUE(computed) << "probed a row that is no computed state: q = " << probes[0].q;
   EXPECT_NEAR(probes[1].q, 0.2, 1e-9);
   for (const ProbeResult& p : probes) {
     EXPECT_LT(p.initial_max_net_force, 1e-8) << "q = " << p.q;
