@@ -161,11 +161,14 @@ RunSummary run_plan(const Plan& plan, const RunOptions& o) {
     }
   } restore{&old_int, &old_term};
 
-  Progress progress("study", static_cast<double>(summary.tasks), !o.quiet, 10.0);
+  // The tasks of this run: those done before cost nothing, and counting them made the ETA of a
+  // resumed study extrapolate from their instant "completion".
+  Progress progress("study", static_cast<double>(summary.tasks - summary.done_before), !o.quiet,
+                    10.0);
   std::map<pid_t, std::size_t> running;
-  auto finished = [&] {
-    return summary.done_before + summary.ran + summary.failed + summary.blocked;
-  };
+  auto finished = [&] { return summary.ran + summary.failed + summary.blocked; };
+  const std::string done_before =
+      summary.done_before > 0 ? ", " + std::to_string(summary.done_before) + " done before" : "";
   while (true) {
     // Start every ready task, up to the job limit, in plan order.
     for (std::size_t t = 0;
@@ -201,7 +204,8 @@ RunSummary run_plan(const Plan& plan, const RunOptions& o) {
     }
     progress.update(
         static_cast<double>(finished()),
-        std::to_string(running.size()) + " running, " + std::to_string(summary.failed) + " failed");
+        std::to_string(running.size()) + " running, " + std::to_string(summary.failed) +
+            " failed" + done_before);
     if (running.empty()) break;
     if (stop_signal) {
       int status = 0;
