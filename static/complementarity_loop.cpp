@@ -108,7 +108,12 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
   const SparseMatrix k = assemble_tangent(net, states, out.statuses, parts);
   const std::vector<char> kept = kept_dofs(net, states, out.statuses);
   const Reduction r = make_reduction(kept);
-  LuFactor lu;
+  // An exact LU of its own (no deferred factorisation: the LCP matrix needs n solves with this
+  // K), unrefined like the load step's solves: only the statuses leave this function, decided
+  // with a width of decision_tolerance far above the refinement's round-off.
+  LuReuse reuse = default_lu_reuse();
+  reuse.refine = reuse.refine && options.refine_solves;
+  LuFactor lu(reuse);
   const auto t0 = Clock::now();
   const bool factored = lu.factorize(reduce(k, r));
   if (timings) {
