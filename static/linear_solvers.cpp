@@ -78,9 +78,12 @@ SymbolicCache& symbolic_cache() {
 
 // Factorises k (compressed) with UMFPACK; false when singular or failed. reused: the symbolic
 // analysis came from the cache.
-bool factorize_numeric(NumericLu& lu, bool& reused) {
+bool factorize_numeric(NumericLu& lu, bool& reused, int metis_min_dofs) {
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
   umfpack_control(control);
+  // The ordering is a function of the size, so a cached symbolic analysis of the same pattern
+  // has it too.
+  if (lu.k.rows() >= metis_min_dofs) control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
   LuStatistics& statistics = lu_statistics();
   ++statistics.numeric;
   ++statistics.phase_numeric[static_cast<int>(statistics.phase)];
@@ -246,7 +249,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   auto lu = std::make_shared<NumericLu>();
   lu->k = k;
   lu->k.makeCompressed();
-  if (!factorize_numeric(*lu, symbolic_reused_)) return false;
+  if (!factorize_numeric(*lu, symbolic_reused_, m.reuse.metis_min_dofs)) return false;
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
   m.full = lu;
@@ -263,7 +266,7 @@ bool LuFactor::factorise_deferred() const {
   auto lu = std::make_shared<NumericLu>();
   lu->k = std::move(m.k);
   bool reused = false;
-  if (!factorize_numeric(*lu, reused)) {
+  if (!factorize_numeric(*lu, reused, m.reuse.metis_min_dofs)) {
     m.singular = true;
     det_sign_ = 0;
     log10_det_ = -INFINITY;

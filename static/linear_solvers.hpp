@@ -81,6 +81,12 @@ struct LuReuse {
   // N = 5600 did not get there in 24 iterations (the residual's round-off floor); the path and
   // q1 are the same at 1e-12 and 1e-14 (docs/notes/2026-12-02-static-speed-measurements.md).
   double krylov_tolerance = 1e-12;
+  // UMFPACK's fill-reducing ordering: METIS (nested dissection, through CHOLMOD) for matrices of
+  // at least this many rows, AMD/COLAMD (UMFPACK's default) below. At 61248 dofs (the N = 22400
+  // tiling of series B) METIS takes 34 % off the numeric factorisations and 17 % off q1's first
+  // 20 states; at 15312 dofs 12 % and 1 %; at 3828 nothing (bench/README.md "Static solver").
+  // The threshold keeps the shipped samples (N <= 1400) on their path to the bit.
+  int metis_min_dofs = 40000;
   // UMFPACK's iterative refinement in solve and solve_transpose (up to 2 steps against K, 5-8
   // unrefined solves' worth). Off, a solve is the exact inverse of the computed factors (backward
   // stable). The load step turns it off (SolverOptions::refine_solves).

@@ -9,9 +9,10 @@
 // run (load steps and q1); -krylov / -exact: SolverOptions::krylov_solves on / off (GMRES with
 // deferred factorisations, or an LU per solve) instead of its default. Environment:
 // GRANSTAB_KRYLOV_TOLERANCE, GRANSTAB_KRYLOV_MAX_ITERATIONS, GRANSTAB_LOWRANK_MAX_COLUMNS,
-// GRANSTAB_LOWRANK_MAX_RANK override the LuReuse limits.
+// GRANSTAB_LOWRANK_MAX_RANK, GRANSTAB_METIS_MIN_DOFS override the LuReuse limits.
 // With CURVE.csv, the q1 run's curve (the columns of granstab q1 that do not depend on timing or
-// the Hill indicator) is written there, to compare solver changes.
+// the Hill indicator) is written there, to compare solver changes. GRANSTAB_TILE_SAVE=FILE writes
+// the tiled sample there (a granstab configuration, e.g. for `granstab sic` on the same N).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -54,7 +55,10 @@ int main(int argc, char** argv) {
     statics::default_lu_reuse().max_columns = std::atoi(c);
   if (const char* r = std::getenv("GRANSTAB_LOWRANK_MAX_RANK"))
     statics::default_lu_reuse().max_rank = std::atoi(r);
+  if (const char* m = std::getenv("GRANSTAB_METIS_MIN_DOFS"))
+    statics::default_lu_reuse().metis_min_dofs = std::atoi(m);
   const Configuration config = bench::tile(read_configuration(argv[1]), nx, ny);
+  if (const char* save = std::getenv("GRANSTAB_TILE_SAVE")) write_configuration(config, save);
   using Clock = std::chrono::steady_clock;
 
   statics::Network net = statics::network_from_configuration(config);

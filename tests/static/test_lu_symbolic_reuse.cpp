@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <thread>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -67,6 +68,41 @@ TEST(LuSymbolicReuse, DeterminantSignWithReusedAnalysis) {
     negative += det < 0.0;
   }
   EXPECT_GT(negative, 0);  // both signs are exercised
+}
+
+}  // namespace
+}  // namespace granstab::statics
+
+namespace granstab::statics {
+namespace {
+
+// LuReuse::metis_min_dofs: from that size on UMFPACK orders by METIS. The factors differ (other
+// pivots, other round-off), the solution and the determinant do not beyond round-off.
+TEST(LuOrdering, MetisAboveTheThresholdSameSolutionAndDeterminant) {
+  const SparseMatrix k = testing::grid_matrix(30, 5u, -0.3, false);
+  const Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(k.rows(), -1.0, 2.0);
+  std::vector<Eigen::VectorXd> x;
+  std::vector<int> sign;
+  std::vector<double> log10_det;
+  for (const int min_dofs : {1 << 30, 0}) {
+    std::thread worker([&] {  // an empty symbolic cache: each ordering analysed afresh
+      LuReuse reuse = default_lu_reuse();
+      reuse.metis_min_dofs = min_dofs;
+      reuse.refine = false;
+      LuFactor lu(reuse);
+      ASSERT_TRUE(lu.factorize(k));
+      x.push_back(lu.solve(rhs));
+      sign.push_back(lu.determinant_sign());
+      log10_det.push_back(lu.log10_abs_determinant());
+    });
+    worker.join();
+  }
+  ASSERT_EQ(x.size(), 2u);
+  EXPECT_LT((k * x[1] - rhs).norm(), 1e-12 * rhs.norm());
+  EXPECT_LT((x[1] - x[0]).norm(), 1e-10 * x[0].norm());
+  EXPECT_NE(x[1], x[0]) << "the same bits: the METIS ordering did not reach UMFPACK";
+  EXPECT_EQ(sign[0], sign[1]);
+  EXPECT_NEAR(log10_det[0], log10_det[1], 1e-9 * std::abs(log10_det[0]));
 }
 
 }  // namespace
