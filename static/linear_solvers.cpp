@@ -34,8 +34,9 @@ class SymbolicCache {
   // The analysis of k's pattern, computed on a miss; nullptr if UMFPACK fails.
   void* get(const SparseMatrix& k, const double* control, bool& reused) {
     const int n = static_cast<int>(k.rows());
+    const double ordering = control[UMFPACK_ORDERING];
     for (std::size_t e = 0; e < entries_.size(); ++e) {
-      if (!entries_[e].pattern.same_as(k)) continue;
+      if (entries_[e].ordering != ordering || !entries_[e].pattern.same_as(k)) continue;
       std::rotate(entries_.begin(), entries_.begin() + e,
                   entries_.begin() + e + 1);  // most recent first
       reused = true;
@@ -57,6 +58,7 @@ class SymbolicCache {
     }
     Entry x;
     x.pattern.assign(k);
+    x.ordering = ordering;
     x.symbolic = symbolic;
     entries_.insert(entries_.begin(), std::move(x));
     return symbolic;
@@ -66,6 +68,7 @@ class SymbolicCache {
   static constexpr std::size_t capacity = 4;
   struct Entry {
     SparsityPattern pattern;
+    double ordering = 0.0;  // control[UMFPACK_ORDERING] of the analysis (LuReuse::metis_min_dofs)
     void* symbolic = nullptr;
   };
   std::vector<Entry> entries_;
@@ -81,8 +84,6 @@ SymbolicCache& symbolic_cache() {
 bool factorize_numeric(NumericLu& lu, bool& reused, int metis_min_dofs) {
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
   umfpack_control(control);
-  // The ordering is a function of the size, so a cached symbolic analysis of the same pattern
-  // has it too.
   if (lu.k.rows() >= metis_min_dofs) control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
   LuStatistics& statistics = lu_statistics();
   ++statistics.numeric;
