@@ -49,5 +49,23 @@ TEST(FixedPattern, SameValuesAndStatusIndependentPattern) {
   EXPECT_TRUE(lu.symbolic_reused());
 }
 
+// The fixed pattern of a contact list is kept between assemblies (static/tangent.cpp): another
+// network, then the first again, must each get their own structure and the same values.
+TEST(FixedPattern, KeptPatternFollowsTheContactList) {
+  TangentParts fixed;
+  fixed.fixed_pattern = true;
+  for (const Network& net : {testing::periodic_mixed_network(), testing::walled_mixed_network(),
+                             testing::periodic_mixed_network()}) {
+    const std::vector<ContactState> states =
+        evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
+    std::vector<ContactStatus> statuses(states.size(), ContactStatus::stick);
+    statuses[1] = ContactStatus::slide_negative;
+    const SparseMatrix k = assemble_tangent(net, states, statuses, fixed);
+    ASSERT_EQ(k.rows(), net.dofs.size);
+    const Eigen::MatrixXd sparse(assemble_tangent(net, states, statuses));
+    EXPECT_EQ((sparse - Eigen::MatrixXd(k)).cwiseAbs().maxCoeff(), 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace granstab::statics
