@@ -26,14 +26,23 @@ struct HillResult {
 HillResult hill_indicator(const SparseMatrix& k, const HillResult* previous = nullptr);
 
 // Negative eigenvalues of the symmetric matrix s, exactly: the negative pivots of its LDL^T
-// (Sylvester's law of inertia). -1 when the factorisation meets a zero pivot.
-int negative_eigenvalue_count_symmetric(const SparseMatrix& s);
+// (Sylvester's law of inertia). -1 when the factorisation meets a zero pivot. With a count > 0
+// and `witness`, also a vector x with x^T s x < 0 (from the first negative pivot), when its sign
+// is beyond round-off.
+int negative_eigenvalue_count_symmetric(const SparseMatrix& s, Eigen::VectorXd* witness = nullptr);
+
+// Whether x^T k x < 0 beyond its round-off: then (k + k^T)/2 is indefinite (x^T k x is x^T S x).
+bool proves_indefinite(const SparseMatrix& k, const Eigen::VectorXd& x);
 
 // The §S3.4 (b) criterion made robust to an even number of eigenvalues crossing zero at once
 // (det K keeps its sign then): the real negative eigenvalues of K.
+inline constexpr int indefinite_uncounted = -2;
 struct NegativeEigenvalues {
   bool ok = false;
-  int symmetric = -1;                  // negative eigenvalues of (K + K^T)/2 (LDL^T inertia)
+  // Negative eigenvalues of S = (K + K^T)/2 (LDL^T inertia); indefinite_uncounted when a witness
+  // showed S indefinite and the inertia was not computed.
+  int symmetric = -1;
+  Eigen::VectorXd witness;             // x with x^T S x < 0 where one is known (S indefinite)
   int real = -1;                       // real negative eigenvalues of K
   std::vector<Eigen::VectorXd> modes;  // their (real) eigenvectors, unit length
   // Smallest |eigenvalue| among those computed (NaN when none were: the symmetric part positive
@@ -44,11 +53,16 @@ struct NegativeEigenvalues {
 // eigenvector x): real = 0 at the cost of one LDL^T. Otherwise the eigenvalues of K nearest 0
 // (shift-invert Arnoldi, Spectra, with lu = the LU of K, or dense when lu is null or Arnoldi
 // fails and K is small) are counted: an eigenvalue that crossed 0 since the last state is near 0.
-NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu);
+// A `witness` (say the last state's) that proves S indefinite spares the LDL^T: the Arnoldi runs
+// as it would on an inertia > 0, and the inertia is left to the caller (negative_eigenvalue_count_
+// symmetric) where it is needed.
+NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu,
+                                         const Eigen::VectorXd* witness = nullptr);
 
 // Counters of this thread's negative_eigenvalues work (bench/static).
 struct NegativeEigenvalueStatistics {
   long calls = 0;
+  long witnessed = 0;       // calls whose witness spared the LDL^T
   long arnoldi = 0;         // calls that ran the Arnoldi iteration (indefinite symmetric part)
   long arnoldi_solves = 0;  // solves with the LU of K in those
   long dense = 0;           // calls that ended in the dense eigensolver

@@ -80,7 +80,20 @@ NegativeEigenvalueStatistics& negative_eigenvalue_statistics() {
   return statistics;
 }
 
-int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
+bool proves_indefinite(const SparseMatrix& k, const Eigen::VectorXd& x) {
+  if (x.size() != k.cols() || x.size() == 0) return false;
+  // x^T k x summed term by term, and the sum of the terms' sizes, which bounds its round-off.
+  double value = 0.0, size = 0.0;
+  for (Eigen::Index j = 0; j < k.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(k, j); it; ++it) {
+      const double term = x[it.index()] * it.value() * x[j];
+      value += term;
+      size += std::abs(term);
+    }
+  return value < -1e-8 * size;
+}
+
+int negative_eigenvalue_count_symmetric(const SparseMatrix& s, Eigen::VectorXd* witness) {
   // The ordering and the elimination tree of the last pattern, kept: a q1 run counts the inertia
   // of many matrices with the pattern of one contact list (the fixed pattern of the tangent). The
   // analysis reads the pattern only, so the factor is the same as a fresh one's.
@@ -102,14 +115,25 @@ int negative_eigenvalue_count_symmetric(const SparseMatrix& s) {
   if (ldlt.info() != Eigen::Success) return -1;
   const Eigen::VectorXd d = ldlt.vectorD();
   int count = 0;
+  Eigen::Index first_negative = -1;
   for (Eigen::Index i = 0; i < d.size(); ++i) {
     if (d[i] == 0.0 || !std::isfinite(d[i])) return -1;
+    if (d[i] < 0.0 && first_negative < 0) first_negative = i;
     count += d[i] < 0.0;
+  }
+  if (witness && first_negative >= 0) {
+    // S = P^T L D L^T P: x = P^-1 L^-T e_i gives x^T S x = D_i < 0.
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(d.size());
+    e[first_negative] = 1.0;
+    const Eigen::VectorXd y = ldlt.matrixU().solve(e);
+    Eigen::VectorXd x = ldlt.permutationPinv() * y;
+    if (proves_indefinite(sc, x)) *witness = std::move(x);
   }
   return count;
 }
 
-NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu) {
+NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu,
+                                         const Eigen::VectorXd* witness) {
   NegativeEigenvalues out;
   NegativeEigenvalueStatistics& statistics = negative_eigenvalue_statistics();
   ++statistics.calls;
@@ -122,7 +146,14 @@ NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* 
   const double t0 = thread_seconds();
   // Not gated by a CHOLMOD LL^T: the symmetric part is indefinite in 70 % of the calls of a q1 run
   // (the LDL^T then runs anyway), and the gate doubled this part's cost at N = 1400.
-  out.symmetric = negative_eigenvalue_count_symmetric(0.5 * (k + SparseMatrix(k.transpose())));
+  if (witness && proves_indefinite(k, *witness)) {
+    ++statistics.witnessed;
+    out.symmetric = indefinite_uncounted;
+    out.witness = *witness;
+  } else {
+    out.symmetric =
+        negative_eigenvalue_count_symmetric(0.5 * (k + SparseMatrix(k.transpose())), &out.witness);
+  }
   const double t1 = thread_seconds();
   statistics.symmetric_seconds += t1 - t0;
   if (out.symmetric == 0) {

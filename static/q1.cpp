@@ -128,21 +128,44 @@ bool on_branch(const Network& net, const std::vector<ContactState>& states,
 // The spectrum of K on the statuses of a check, as far as the criteria and the step control
 // need it.
 struct Spectrum {
-  int negative = 0;    // real negative eigenvalues whose modes stay on the branch (§S3.4 b)
-  int symmetric = -1;  // negative eigenvalues of (K + K^T)/2 (-1: not counted)
+  int negative = 0;  // real negative eigenvalues whose modes stay on the branch (§S3.4 b)
+  // Negative eigenvalues of (K + K^T)/2 (-1: not counted; indefinite_uncounted: indefinite, the
+  // count deferred to symmetric_count, which only a step without status change needs).
+  int symmetric = -1;
   double nearest_zero = std::numeric_limits<double>::quiet_NaN();  // smallest |eigenvalue| found
+  Eigen::VectorXd witness;  // x (all dofs) with x^T K x < 0, offered to the next state's check
+  SparseMatrix reduced;     // K on the kept dofs while the count is deferred
 };
 
+// The deferred inertia of a spectrum: the same LDL^T count the check would have made.
+int symmetric_count(Spectrum& s) {
+  if (s.symmetric == indefinite_uncounted) {
+    s.symmetric = negative_eigenvalue_count_symmetric(
+        0.5 * (s.reduced + SparseMatrix(s.reduced.transpose())));
+    s.reduced = SparseMatrix();
+  }
+  return s.symmetric;
+}
+
 // Real negative eigenvalues of K on the statuses of a check whose eigenvectors stay on the branch
-// of those statuses (0 when not counted or unknown: det K alone then decides).
-Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count) {
+// of those statuses (0 when not counted or unknown: det K alone then decides). The previous
+// state's witness of an indefinite symmetric part, where it still shows one, spares the LDL^T.
+Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count,
+                     const Spectrum* previous = nullptr) {
   Spectrum out;
   if (!count || !p.ok || !p.factor) return out;
   const Reduction r = make_reduction(p.kept);
-  const NegativeEigenvalues e = negative_eigenvalues(reduce(p.tangent, r), p.factor.get());
+  SparseMatrix k = reduce(p.tangent, r);
+  Eigen::VectorXd witness;
+  if (previous && previous->witness.size() == p.tangent.rows())
+    witness = reduce(previous->witness, r);
+  const NegativeEigenvalues e =
+      negative_eigenvalues(k, p.factor.get(), witness.size() > 0 ? &witness : nullptr);
   if (!e.ok) return out;
   out.symmetric = e.symmetric;
   out.nearest_zero = e.nearest_zero;
+  if (e.witness.size() > 0) out.witness = expand(e.witness, r, static_cast<int>(p.tangent.rows()));
+  if (e.symmetric == indefinite_uncounted) out.reduced = std::move(k);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
   for (const Eigen::VectorXd& v : e.modes)
@@ -179,9 +202,10 @@ bool same_statuses(const PredictorResult& start, const StepResult& s) {
 // indefinite, after a step without status change and with its inertia unchanged, half the span
 // in which the eigenvalue of K nearest 0 would reach 0 at its rate over that step (an even pair
 // crossing and coming back inside one step needs that); otherwise, or uncounted, 0: no growth.
-double stable_span(const Spectrum& start, const Spectrum& end, bool quiet, double taken) {
+double stable_span(Spectrum& start, Spectrum& end, bool quiet, double taken) {
   if (end.symmetric == 0) return std::numeric_limits<double>::infinity();
-  if (!quiet || start.symmetric < 0 || end.symmetric != start.symmetric) return 0.0;
+  if (!quiet) return 0.0;
+  if (symmetric_count(start) < 0 || symmetric_count(end) != start.symmetric) return 0.0;
   const double rate = std::abs(end.nearest_zero - start.nearest_zero) / taken;
   if (!(end.nearest_zero > 0.0) || !std::isfinite(rate)) return 0.0;
   return rate > 0.0 ? 0.5 * end.nearest_zero / rate : std::numeric_limits<double>::infinity();
@@ -369,7 +393,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       rebuild_degrees_of_freedom(trial);
       check = check_state(trial, lambda + step, step, path, solver, &result.timings);
       unbalanced = check.unbalanced_rotations;
-      next = spectrum_of(trial, check, options.count_negative_eigenvalues);
+      next = spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
       negative = next.negative;
       if (big && check.ok && check.statuses != last_check.statuses) {
         detail = "status change in a step above dq";

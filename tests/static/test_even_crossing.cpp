@@ -90,6 +90,46 @@ TEST(NegativeEigenvalues, SymmetricCountFollowsTheValuesOfARepeatedPattern) {
   EXPECT_EQ(negative_eigenvalue_count_symmetric(blocks({}, {{1.0, 0.5}, {1.0, 2.0}}, tail)), 1);
 }
 
+// A witness x with x^T K x < 0 shows the symmetric part indefinite without its LDL^T: the same
+// eigenvalues are then counted, the inertia is left uncounted, and the LDL^T's own witness (from
+// its first negative pivot) proves what it should. A witness that shows nothing is not trusted.
+TEST(NegativeEigenvalues, AWitnessOfAnIndefiniteSymmetricPartSparesTheInertia) {
+  std::vector<double> tail;
+  for (int i = 0; i < 30; ++i) tail.push_back(1.0 + i);
+  SparseMatrix k = blocks({{0.5, 4.0, 0.0}}, {{-2.0, 0.5}}, tail);
+  k.coeffRef(0, 1) = 6.0;
+  k.coeffRef(1, 0) = -4.0;
+  LuFactor lu;
+  ASSERT_TRUE(lu.factorize(k));
+  const NegativeEigenvalues counted = negative_eigenvalues(k, &lu);
+  ASSERT_TRUE(counted.ok);
+  EXPECT_EQ(counted.symmetric, 3);  // 0.5 - 1 (rotation block), -2 +- 0.5
+  EXPECT_EQ(counted.real, 2);
+  ASSERT_EQ(counted.witness.size(), k.rows());
+  EXPECT_LT(counted.witness.dot(k * counted.witness), 0.0);
+  EXPECT_TRUE(proves_indefinite(k, counted.witness));
+
+  const NegativeEigenvalues witnessed = negative_eigenvalues(k, &lu, &counted.witness);
+  ASSERT_TRUE(witnessed.ok);
+  EXPECT_EQ(witnessed.symmetric, indefinite_uncounted);
+  EXPECT_EQ(witnessed.real, counted.real);
+  EXPECT_EQ(witnessed.nearest_zero, counted.nearest_zero);
+
+  // A positive definite symmetric part: no vector proves otherwise, the LDL^T decides.
+  const SparseMatrix definite = blocks({{1.0, 5.0, 0.0}}, {{3.0, 1.0}}, tail);
+  const Eigen::VectorXd probe = Eigen::VectorXd::Ones(definite.rows());
+  EXPECT_FALSE(proves_indefinite(definite, probe));
+  const NegativeEigenvalues pd = negative_eigenvalues(definite, nullptr, &probe);
+  EXPECT_EQ(pd.symmetric, 0);
+  EXPECT_EQ(pd.real, 0);
+  EXPECT_EQ(pd.witness.size(), 0);
+  // x^T K x = 0 within round-off (an antisymmetric pair only) proves nothing either.
+  Eigen::VectorXd flat = Eigen::VectorXd::Zero(definite.rows());
+  flat[0] = 1.0;
+  SparseMatrix rotation = blocks({{0.0, 5.0, 0.0}}, {}, tail);
+  EXPECT_FALSE(proves_indefinite(rotation, flat));
+}
+
 // Three disks of radius 1/2 per period along x (spacing d = 1 - F/K_N), rotations and e2 fixed,
 // the translation pinned on disk 0: the transverse displacements of disks 1 and 2 have the
 // stiffness matrix k [[2, -1], [-1, 2]] with k = K_T - F/d, eigenvalues k and 3k. Both cross zero
