@@ -54,8 +54,7 @@ struct NegativeEigenvalues {
 // (shift-invert Arnoldi, Spectra, with lu = the LU of K, or dense when lu is null or Arnoldi
 // fails and K is small) are counted: an eigenvalue that crossed 0 since the last state is near 0.
 // A `witness` (say the last state's) that proves S indefinite spares the LDL^T: the Arnoldi runs
-// as it would on an inertia > 0, and the inertia is left to the caller (negative_eigenvalue_count_
-// symmetric) where it is needed.
+// as it would on an inertia > 0, and the caller counts the inertia where it needs it.
 NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* lu,
                                          const Eigen::VectorXd* witness = nullptr);
 

@@ -47,9 +47,15 @@ LocalMatrix contact_stiffness(const Network& net, const ContactState& s, Contact
   return k;
 }
 
+namespace {
+bool has_load_stiffness(const Network& net) {
+  return net.loading.measure == StressMeasure::cauchy && net.dofs.e[0] >= 0 && net.dofs.e[1] >= 0;
+}
+}  // namespace
+
 void add_load_stiffness(const Network& net, std::vector<Eigen::Triplet<double>>& triplets) {
   const DofMap& m = net.dofs;
-  if (net.loading.measure != StressMeasure::cauchy || m.e[0] < 0 || m.e[1] < 0) return;
+  if (!has_load_stiffness(net)) return;
   const double a0 = net.area();
   triplets.emplace_back(m.e[0], m.e[1], net.loading.sigma[0] * a0);
   triplets.emplace_back(m.e[1], m.e[0], net.loading.sigma[1] * a0);
@@ -123,10 +129,6 @@ const FixedPattern& fixed_pattern_of(const Network& net, const std::vector<Conta
   if (with_load)
     p.load_slot = {value_index(p.zero, m.e[0], m.e[1]), value_index(p.zero, m.e[1], m.e[0])};
   return p;
-}
-
-bool has_load_stiffness(const Network& net) {
-  return net.loading.measure == StressMeasure::cauchy && net.dofs.e[0] >= 0 && net.dofs.e[1] >= 0;
 }
 
 }  // namespace
