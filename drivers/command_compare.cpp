@@ -82,14 +82,23 @@ void print_verdict(const crosscheck::CrosscheckResult& r, const std::filesystem:
   const bool agree = c.n_steps_compared > 0 && c.max_diff_over_bound_eps2 <= 1.0;
   const bool agree_before =
       c.n_compared_before_sliding > 0 && c.max_diff_over_bound_eps2_before_sliding <= 1.0;
-  std::printf("verdict: %s\n",
-              c.n_steps_compared == 0 ? "nothing to compare (no dynamic equilibrium below q1)"
-              : agree ? "static and dynamic agree below q1 within the SPEC 3.1 tolerances"
-              : agree_before
-                  ? "static and dynamic agree within the SPEC 3.1 tolerances until the first "
-                    "sliding contact; beyond, the dynamic path slips more (see user guide)"
-                  : "static and dynamic differ by more than the SPEC 3.1 tolerances allow "
-                    "(see compare.json and the user guide)");
+  // Which path strained more where they differ most (the sign is not the same on every sample).
+  const char* more =
+      c.diff_eps2_at_max > 0.0 ? "the dynamic path strains more" : "the static path strains more";
+  if (c.n_steps_compared == 0)
+    std::printf("verdict: nothing to compare (no dynamic equilibrium below q1)\n");
+  else if (agree)
+    std::printf("verdict: static and dynamic agree below q1 within the SPEC 3.1 tolerances\n");
+  else if (agree_before)
+    std::printf(
+        "verdict: static and dynamic agree within the SPEC 3.1 tolerances until the first "
+        "sliding contact; beyond, %s (see user guide)\n",
+        more);
+  else
+    std::printf(
+        "verdict: static and dynamic differ by more than the SPEC 3.1 tolerances allow, "
+        "%s (see compare.json and the user guide)\n",
+        more);
   std::printf("outputs in %s\n", dir.string().c_str());
   std::fflush(stdout);
 }

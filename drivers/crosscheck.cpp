@@ -140,7 +140,10 @@ Comparison compare_curves(const std::vector<statics::CurvePoint>& static_curve, 
     out.max_abs_diff_eps1 =
         std::max(out.max_abs_diff_eps1, std::abs(m.eps1_dynamic - m.eps1_static));
     if (m.bound_eps2 > 0.0) {
-      out.max_diff_over_bound_eps2 = std::max(out.max_diff_over_bound_eps2, d2 / m.bound_eps2);
+      if (d2 / m.bound_eps2 > out.max_diff_over_bound_eps2) {
+        out.max_diff_over_bound_eps2 = d2 / m.bound_eps2;
+        out.diff_eps2_at_max = m.eps2_dynamic - m.eps2_static;
+      }
       if (!(m.q >= out.q_first_static_sliding - 1e-9 * dq)) {
         out.max_diff_over_bound_eps2_before_sliding =
             std::max(out.max_diff_over_bound_eps2_before_sliding, d2 / m.bound_eps2);
@@ -474,6 +477,7 @@ std::string compare_json(const JsonContext& x, const CrosscheckOptions& o,
     << "  \"max_abs_diff_epsv_below_q1\": " << json_number(c.max_abs_diff_epsv) << ",\n"
     << "  \"max_abs_diff_eps1_below_q1\": " << json_number(c.max_abs_diff_eps1) << ",\n"
     << "  \"max_diff_over_bound_eps2\": " << json_number(c.max_diff_over_bound_eps2) << ",\n"
+    << "  \"diff_eps2_at_max\": " << json_number(c.diff_eps2_at_max) << ",\n"
     << "  \"q_first_static_sliding\": " << json_number(c.q_first_static_sliding) << ",\n"
     << "  \"max_diff_over_bound_eps2_before_sliding\": "
     << json_number(c.max_diff_over_bound_eps2_before_sliding) << ",\n"

@@ -114,6 +114,8 @@ struct Comparison {
   double max_abs_diff_epsv = 0.0;
   double max_abs_diff_eps1 = 0.0;
   double max_diff_over_bound_eps2 = 0.0;  // max over points of |diff eps2| / bound_eps2
+  // eps2_dynamic - eps2_static at that point: which path strained more (NaN: nothing compared).
+  double diff_eps2_at_max = std::numeric_limits<double>::quiet_NaN();
   // First static state with a sliding contact (NaN if none below q1), and the ratio above over the
   // matched states before it: sliding contacts are where the dynamic path (transient overshoot
   // after each stress step) can slip more than the quasistatic one (docs/user-guide.md).

@@ -61,6 +61,13 @@ TEST(CompareCurves, MatchesAtTheSameQAndMeasuresTheJumpAfterQ1) {
   EXPECT_DOUBLE_EQ(c.q_of_jump, 0.3);
   EXPECT_TRUE(c.jump_reached_equilibrium);
   EXPECT_NEAR(c.mean_dynamic_step_below_q1, 0.202, 1e-15);
+  // Where the curves differ most (relative to the bound), the signed difference says which path
+  // strained more: here the dynamic one; a 1 % stiffer dynamic curve gives the other sign.
+  ASSERT_GT(c.max_diff_over_bound_eps2, 0.0);
+  EXPECT_GT(c.diff_eps2_at_max, 0.0);
+  const std::vector<DynamicPoint> stiffer{dynamic_point(0.0, 0.0), dynamic_point(0.1, 0.198),
+                                          dynamic_point(0.2, 0.396)};
+  EXPECT_LT(compare_curves(s, 0.25, stiffer, 1.0, {}).diff_eps2_at_max, 0.0);
   // No static sliding contact: every compared state counts as "before sliding".
   EXPECT_TRUE(std::isnan(c.q_first_static_sliding));
   EXPECT_EQ(c.n_compared_before_sliding, 2);
@@ -177,6 +184,8 @@ TEST(StaticVsDynamic, StressStepOvershootIsRemovedByDynamicSubsteps) {
   std::cout << "diff / bound: stress steps of dq " << steps.comparison.max_diff_over_bound_eps2
             << ", substeps " << ramp.comparison.max_diff_over_bound_eps2 << "\n";
   EXPECT_GT(steps.comparison.max_diff_over_bound_eps2, 3.0);
+  // The overshoot strains the dynamic path more (compare's verdict says which path did).
+  EXPECT_GT(steps.comparison.diff_eps2_at_max, 0.0);
   EXPECT_LT(ramp.comparison.max_diff_over_bound_eps2, 1.0);
   // The substeps are not recorded: the dynamic curve holds the states at q = k dq only.
   ASSERT_EQ(ramp.dynamic.curve.size(), steps.dynamic.curve.size());
