@@ -60,7 +60,7 @@ HillResult hill_indicator(const SparseMatrix& k, const HillResult* previous) {
   HillResult h;
   const int n = static_cast<int>(k.rows());
   if (n == 0) return h;
-  SparseMatrix s = 0.5 * (k + SparseMatrix(k.transpose()));
+  SparseMatrix s = symmetric_part(k);
   if (n <= 40) return dense_hill(s);  // a Lanczos basis would be the whole space
   double scale = 0.0;
   for (int i = 0; i < n; ++i) scale = std::max(scale, std::abs(s.coeff(i, i)));

@@ -25,6 +25,9 @@ struct HillResult {
 // Lanczos tolerance (1e-10 relative); it is a logged indicator, no decision depends on it.
 HillResult hill_indicator(const SparseMatrix& k, const HillResult* previous = nullptr);
 
+// S = (K + K^T)/2: the matrix every inertia count and the Hill indicator read.
+SparseMatrix symmetric_part(const SparseMatrix& k);
+
 // Negative eigenvalues of the symmetric matrix s, exactly: the negative pivots of its LDL^T
 // (Sylvester's law of inertia). -1 when the factorisation meets a zero pivot. With a count > 0
 // and `witness`, also a vector x with x^T s x < 0 (from the first negative pivot), when its sign

@@ -80,6 +80,10 @@ NegativeEigenvalueStatistics& negative_eigenvalue_statistics() {
   return statistics;
 }
 
+SparseMatrix symmetric_part(const SparseMatrix& k) {
+  return 0.5 * (k + SparseMatrix(k.transpose()));
+}
+
 bool proves_indefinite(const SparseMatrix& k, const Eigen::VectorXd& x) {
   if (x.size() != k.cols() || x.size() == 0) return false;
   // x^T k x summed term by term, and the sum of the terms' sizes, which bounds its round-off.
@@ -151,8 +155,7 @@ NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* 
     out.symmetric = indefinite_uncounted;
     out.witness = *witness;
   } else {
-    out.symmetric =
-        negative_eigenvalue_count_symmetric(0.5 * (k + SparseMatrix(k.transpose())), &out.witness);
+    out.symmetric = negative_eigenvalue_count_symmetric(symmetric_part(k), &out.witness);
   }
   const double t1 = thread_seconds();
   statistics.symmetric_seconds += t1 - t0;

@@ -140,8 +140,7 @@ struct Spectrum {
 // The deferred inertia of a spectrum: the same LDL^T count the check would have made.
 int symmetric_count(Spectrum& s) {
   if (s.symmetric == indefinite_uncounted) {
-    s.symmetric = negative_eigenvalue_count_symmetric(
-        0.5 * (s.reduced + SparseMatrix(s.reduced.transpose())));
+    s.symmetric = negative_eigenvalue_count_symmetric(symmetric_part(s.reduced));
     s.reduced = SparseMatrix();
   }
   return s.symmetric;
