@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "static/backbone.hpp"
 #include "static/hill.hpp"
@@ -435,7 +436,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
       const double event = grow ? predicted_event(net, lambda, step, path, check) : 0.0;
       last_check = check;
-      spectrum = next;
+      spectrum = std::move(next);  // with its witness and the matrix of a deferred count
       report_progress(lambda);
       if (lambda >= event_below - 1e-6 * dq) event_below = inf;  // passed it
       if (grow) {
