@@ -46,10 +46,10 @@ class SymmetricFactor {
   // Factorises the symmetric matrix (its lower triangle is read). Returns false when it is not
   // positive definite (CHOLMOD_NOT_POSDEF, checked right after the factorisation). The symbolic
   // analysis of the previous call is reused when k has exactly the same sparsity pattern (the
-  // same ordering and supernodes, hence the same factor).
+  // same ordering, hence the same factor).
   bool factorize(const SparseMatrix& k);
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
-  // S^-1 B for several right-hand sides at once (blocked triangular solves).
+  // S^-1 B for several right-hand sides at once (bench/static/bench_schur).
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const;
 
  private:

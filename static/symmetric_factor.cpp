@@ -1,5 +1,9 @@
-// CHOLMOD's supernodal LL^T for the symmetric positive definite systems (SymmetricFactor,
-// linear_solvers.hpp): the Hill indicator's shift-invert solves and the inertia trials.
+// CHOLMOD's LL^T for the symmetric positive definite systems (SymmetricFactor,
+// linear_solvers.hpp): the Hill indicator's shift-invert solves. Simplicial, not supernodal: the
+// supernodes of these 2D contact networks are small, and with Debian's reference BLAS the
+// supernodal factorisation took 2-7x longer (600 against 85 us at 282 dofs, 12.4 against 4.3 ms
+// at 3819, 71 against 35 ms at 15276; bench/README.md). A simplicial LL^T still stops at the
+// first non-positive pivot with CHOLMOD_NOT_POSDEF (DEPS.md #1 is about the LDL^T of auto mode).
 #include <Eigen/CholmodSupport>
 
 #include "static/linear_solvers.hpp"
@@ -7,7 +11,7 @@
 namespace granstab::statics {
 
 struct SymmetricFactor::Impl {
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  Eigen::CholmodSimplicialLLT<SparseMatrix, Eigen::Lower> llt;
   SparsityPattern analysed;  // the pattern analysed last
 };
 
