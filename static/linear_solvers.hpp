@@ -1,7 +1,7 @@
 #pragma once
 // The two factorisations of the static solver, behind one small interface each so that no
 // SuiteSparse header leaks out of static/ (DEPS.md #9):
-// - CHOLMOD supernodal LL^T for symmetric positive definite systems (a failed factorisation
+// - CHOLMOD simplicial LL^T for symmetric positive definite systems (a failed factorisation
 //   is the test of positive definiteness; DEPS.md #1-#3);
 // - UMFPACK LU for the full unsymmetric operator with sliding contacts, with the sign of its
 //   determinant (STATIC.md §S3.1 first route, §S3.4 (b)).

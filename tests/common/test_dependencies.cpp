@@ -31,8 +31,10 @@ Eigen::SparseMatrix<double> tridiagonal(int n, double diag) {
   return a;
 }
 
-TEST(Dependencies, CholmodSupernodalDetectsIndefinite) {
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> spd;
+// The Hill indicator's test of positive definiteness is a simplicial LL^T (DEPS.md #1 names the
+// supernodal one; with final_ll = 1 the simplicial one stops at a non-positive pivot too).
+TEST(Dependencies, CholmodLltDetectsIndefinite) {
+  Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> spd;
   spd.cholmod().print = 0;  // DEPS.md #3: CHOLMOD would otherwise print to stdout
   spd.compute(tridiagonal(50, 2.5));
   ASSERT_EQ(spd.info(), Eigen::Success);
@@ -40,10 +42,17 @@ TEST(Dependencies, CholmodSupernodalDetectsIndefinite) {
   Eigen::VectorXd x = spd.solve(b);
   EXPECT_LT((tridiagonal(50, 2.5) * x - b).norm(), 1e-12);
 
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> indefinite;
-  indefinite.cholmod().print = 0;
-  indefinite.compute(tridiagonal(50, 1.0) - 2.0 * tridiagonal(50, 1.0));  // negative definite
-  EXPECT_EQ(indefinite.info(), Eigen::NumericalIssue);                    // DEPS.md #1, #2
+  // Negative definite, and indefinite with 5 negative eigenvalues (1.9 - 2 cos(k pi / 51)).
+  for (const double diag : {-2.5, 1.9}) {
+    Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>> simplicial;
+    simplicial.cholmod().print = 0;
+    simplicial.compute(tridiagonal(50, diag));
+    EXPECT_EQ(simplicial.info(), Eigen::NumericalIssue) << diag;  // DEPS.md #1, #2
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> supernodal;
+    supernodal.cholmod().print = 0;
+    supernodal.compute(tridiagonal(50, diag));
+    EXPECT_EQ(supernodal.info(), Eigen::NumericalIssue) << diag;
+  }
 }
 
 TEST(Dependencies, UmfpackSolvesUnsymmetric) {
