@@ -5,7 +5,7 @@
 //   bench_schur SAMPLE [nx ny] [n_c ...]
 // Times (thread CPU seconds) on the prepared start state of the tiled sample:
 // - UMFPACK LU of K(statuses) on the kept dofs: with a symbolic analysis, and numeric only;
-// - CHOLMOD supernodal LL^T of S = (K_stick + K_stick^T)/2: with the analysis, and numeric only;
+// - CHOLMOD LL^T (SymmetricFactor) of S = (K_stick + K_stick^T)/2: with the analysis, and numeric only;
 // - the O(1/kappa) unsymmetric remainder: iterations of x += S^-1 (b - K_stick x) to 1e-10;
 // - for each n_c (the n_c contacts nearest the Coulomb cone): Z = S^-1 W (blocked solve of the
 //   n_c columns W_c = B_T,c^T), M = K_T I - V Z (V_c = s_c K_T B_T,c - mu K_N B_N,c) and a dense LU
