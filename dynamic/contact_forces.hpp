@@ -70,9 +70,10 @@ BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n);
 
 // Whether the force pass of a time step runs its distance tests and contact laws in the SIMD
 // kernel (contact_forces_simd.hpp; AVX-512, chosen at run time) rather than in the scalar pair
-// loop: the same bits either way. On where the CPU has AVX-512 (F, DQ, BW, VL), unless the
-// environment variable GRANSTAB_SCALAR_PAIRS is set (and not 0) at start-up. set_simd_pairs(false)
-// forces the scalar loop (tests, comparisons); returns whether the kernel is now used.
+// loop, and the drift its half kick and drift in integrator_simd.hpp's kernel: the same bits
+// either way. On where the CPU has AVX-512 (F, DQ, BW, VL), unless the environment variable
+// GRANSTAB_SCALAR_PAIRS is set (and not 0) at start-up. set_simd_pairs(false) forces the scalar
+// loops (tests, comparisons); returns whether the kernels are now used.
 bool simd_pairs();
 bool set_simd_pairs(bool enabled);
 

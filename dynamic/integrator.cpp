@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "cell_control.hpp"
+#include "contact_forces.hpp"
+#include "integrator_simd.hpp"
 
 namespace granstab::dynamic {
 
@@ -25,64 +27,60 @@ std::array<double, 2> kick_drift_cell(CellState& cell, const Stage& stage, doubl
   return lambda;
 }
 
+namespace {
+simd::DriftBlock simd_block(DiskArrays& d, const double* ref_x, const double* ref_y) {
+  return {d.x.data(),   d.y.data(),     d.vx.data(),     d.vy.data(),       d.vpx.data(),
+          d.vpy.data(), d.omega.data(), d.theta.data(),  d.fx.data(),       d.fy.data(),
+          d.fvx.data(), d.fvy.data(),   d.torque.data(), d.inv_mass.data(), d.inv_inertia.data(),
+          ref_x,        ref_y};
+}
+
+template <bool Periodic>
+double kick_drift_scalar(DiskArrays& d, const DriftConstants& k, const double* ref_x,
+                         const double* ref_y, int first, int end) {
+  double max_d2 = 0.0;
+  for (int i = first; i < end; ++i) {
+    const Drifted<double> o = drift_disk<Periodic>(
+        k, d.x[i], d.y[i], d.vx[i], d.vy[i], d.omega[i], d.theta[i], d.fx[i], d.fy[i], d.fvx[i],
+        d.fvy[i], d.torque[i], d.inv_mass[i], d.inv_inertia[i], ref_x[i], ref_y[i]);
+    d.vx[i] = o.vx;
+    d.vy[i] = o.vy;
+    d.vpx[i] = o.vpx;
+    d.vpy[i] = o.vpy;
+    d.omega[i] = o.omega;
+    // Used: cleared for the force pass, which adds every disk's pair forces into them.
+    d.fx[i] = d.fy[i] = d.fvx[i] = d.fvy[i] = d.torque[i] = 0.0;
+    d.x[i] = o.x;
+    d.y[i] = o.y;
+    d.theta[i] = o.theta;
+    max_d2 = std::max(max_d2, o.d2);
+  }
+  return max_d2;
+}
+}  // namespace
+
 double kick_drift_disks(DiskArrays& d, const CellState& cell, std::array<double, 2> lambda,
                         double dt, const NeighbourList& neighbours, int first, int end) {
-  const double half = 0.5 * dt;
   const bool periodic = cell.periodic();
   const double l1 = cell.length[0], l2 = cell.length[1];
   // Non-affine displacement since the build: in reduced coordinates, times current lengths.
-  const double sx = periodic ? 1.0 / l1 : 1.0, sy = periodic ? 1.0 / l2 : 1.0;
-  const double ux = periodic ? l1 : 1.0, uy = periodic ? l2 : 1.0;
+  const DriftConstants k{0.5 * dt,
+                         dt,
+                         l1,
+                         l2,
+                         lambda[0],
+                         lambda[1],
+                         periodic ? 1.0 / l1 : 1.0,
+                         periodic ? 1.0 / l2 : 1.0,
+                         periodic ? l1 : 1.0,
+                         periodic ? l2 : 1.0};
   const double* ref_x = neighbours.reference_x().data();
   const double* ref_y = neighbours.reference_y().data();
-  const double lambda_x = lambda[0], lambda_y = lambda[1];
-  double* const x = d.x.data();
-  double* const y = d.y.data();
-  double* const vx = d.vx.data();
-  double* const vy = d.vy.data();
-  double* const vpx = d.vpx.data();
-  double* const vpy = d.vpy.data();
-  double* const omega = d.omega.data();
-  double* const theta = d.theta.data();
-  double* const fx = d.fx.data();
-  double* const fy = d.fy.data();
-  double* const fvx = d.fvx.data();
-  double* const fvy = d.fvy.data();
-  double* const torque = d.torque.data();
-  const double* const inv_mass = d.inv_mass.data();
-  const double* const inv_inertia = d.inv_inertia.data();
-  double max_d2 = 0.0;
-  for (int i = first; i < end; ++i) {
-    const double ax = (fx[i] + fvx[i]) * inv_mass[i];
-    const double ay = (fy[i] + fvy[i]) * inv_mass[i];
-    const double vx_half = vx[i] + half * ax, vy_half = vy[i] + half * ay;
-    vx[i] = vx_half;
-    vy[i] = vy_half;
-    vpx[i] = vx_half + half * ax;
-    vpy[i] = vy_half + half * ay;
-    const double omega_half = omega[i] + half * torque[i] * inv_inertia[i];
-    omega[i] = omega_half;
-    // Used: cleared for the force pass, which adds every disk's pair forces into them.
-    fx[i] = fy[i] = fvx[i] = fvy[i] = torque[i] = 0.0;
-    double xi = x[i] * lambda_x + dt * vx_half;
-    double yi = y[i] * lambda_y + dt * vy_half;
-    if (periodic) {
-      xi = wrap(xi, l1);
-      yi = wrap(yi, l2);
-    }
-    x[i] = xi;
-    y[i] = yi;
-    theta[i] += dt * omega_half;
-    double ex = xi * sx - ref_x[i], ey = yi * sy - ref_y[i];
-    if (periodic) {  // |ex| < 1: nearest image by comparison (no rounding call)
-      ex = ex > 0.5 ? ex - 1.0 : (ex < -0.5 ? ex + 1.0 : ex);
-      ey = ey > 0.5 ? ey - 1.0 : (ey < -0.5 ? ey + 1.0 : ey);
-    }
-    ex *= ux;
-    ey *= uy;
-    max_d2 = std::max(max_d2, ex * ex + ey * ey);
+  if (simd_pairs()) {
+    return simd::kick_drift(simd_block(d, ref_x, ref_y), k, periodic, first, end);
   }
-  return max_d2;
+  return periodic ? kick_drift_scalar<true>(d, k, ref_x, ref_y, first, end)
+                  : kick_drift_scalar<false>(d, k, ref_x, ref_y, first, end);
 }
 
 void kick_cell(CellState& cell, const Stage& stage, double dt) {

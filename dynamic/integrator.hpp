@@ -4,6 +4,7 @@
 #include <array>
 
 #include "common/configuration.hpp"
+#include "common/contact_law.hpp"
 #include "neighbour_list.hpp"
 #include "state.hpp"
 
@@ -31,12 +32,71 @@ double kick_drift_disks(DiskArrays& disks, const CellState& cell, std::array<dou
 void kick_cell(CellState& cell, const Stage& stage, double dt);
 
 // Brings x into [0, length) after a drift (displacements per step are far below a length).
-inline double wrap(double x, double length) {
-  if (x < 0.0) {
-    x += length;
-    return x < length ? x : 0.0;
+// A template over the number type, as the contact law (common/contact_law.hpp): double here,
+// the SIMD type of integrator_simd.cpp there, the same bits lane by lane.
+template <class T>
+inline T wrap(T x, double length) {
+  return select_lazy(
+      x < 0.0,
+      [&] {
+        const T up = x + length;
+        return select(up < length, up, T(0.0));
+      },
+      [&] { return select(x >= length, x - length, x); });
+}
+
+// Constants of one drift pass (kick_drift_disks).
+struct DriftConstants {
+  double half, dt;
+  double l1, l2;              // cell lengths after the drift
+  double lambda_x, lambda_y;  // affine stretch of the step (periodic; 1 between walls)
+  double sx, sy, ux, uy;      // to reduced coordinates and back (periodic; 1 between walls)
+};
+
+// One disk's first half kick and drift (kick_drift_disks), for double and for the SIMD type.
+template <class T>
+struct Drifted {
+  T vx, vy, vpx, vpy, omega, x, y, theta;
+  T d2;  // squared non-affine displacement since the list build
+};
+template <bool Periodic, class T>
+inline Drifted<T> drift_disk(const DriftConstants& k, T x, T y, T vx, T vy, T omega, T theta, T fx,
+                             T fy, T fvx, T fvy, T torque, T inv_mass, T inv_inertia, T ref_x,
+                             T ref_y) {
+  Drifted<T> out;
+  const T ax = (fx + fvx) * inv_mass;
+  const T ay = (fy + fvy) * inv_mass;
+  out.vx = vx + k.half * ax;
+  out.vy = vy + k.half * ay;
+  out.vpx = out.vx + k.half * ax;
+  out.vpy = out.vy + k.half * ay;
+  out.omega = omega + k.half * torque * inv_inertia;
+  out.x = x * k.lambda_x + k.dt * out.vx;
+  out.y = y * k.lambda_y + k.dt * out.vy;
+  if constexpr (Periodic) {
+    out.x = wrap(out.x, k.l1);
+    out.y = wrap(out.y, k.l2);
   }
-  return x >= length ? x - length : x;
+  out.theta = theta + k.dt * out.omega;
+  T ex = out.x * k.sx - ref_x, ey = out.y * k.sy - ref_y;
+  if constexpr (Periodic) {  // |ex| < 1: nearest image by comparison (no rounding call)
+    ex = select_lazy(
+        ex > 0.5, [&] { return ex - 1.0; },
+        [&] {
+          return select_lazy(
+              ex < -0.5, [&] { return ex + 1.0; }, [&] { return ex; });
+        });
+    ey = select_lazy(
+        ey > 0.5, [&] { return ey - 1.0; },
+        [&] {
+          return select_lazy(
+              ey < -0.5, [&] { return ey + 1.0; }, [&] { return ey; });
+        });
+  }
+  ex = ex * k.ux;
+  ey = ey * k.uy;
+  out.d2 = ex * ex + ey * ey;
+  return out;
 }
 
 }  // namespace granstab::dynamic

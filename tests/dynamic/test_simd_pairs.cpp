@@ -1,6 +1,7 @@
-// The force pass's SIMD kernel (dynamic/contact_forces_simd.cpp) against the scalar pair loop:
-// both instantiate the same contact-law templates, so a run must give the same bits with
-// either, with 1 and 2 threads, periodic and between walls.
+// The SIMD kernels (dynamic/contact_forces_simd.cpp, the force pass; integrator_simd.cpp, the
+// drift) against the scalar loops: both instantiate the same templates (the contact law,
+// drift_disk), so a run must give the same bits with either, with 1 and 2 threads, periodic
+// and between walls.
 #include <gtest/gtest.h>
 #include <omp.h>
 
