@@ -1,6 +1,6 @@
 // Timing of the static solver (issue #5): one load step split into assembly, factorisation and
 // complementarity, and optionally the whole q1 run, on a shipped periodic sample tiled
-// nx x ny times. Not part of ctest.
+// nx x ny times (1 x 1: any sample, walls too). Not part of ctest.
 //   bench_static SAMPLE [nx ny] [steps] [q1[-fixed|-statuspattern][-lowrank][-krylov|-exact]
 //   [CURVE.csv]]
 // -fixed / -statuspattern: SolverOptions::fixed_pattern on / off (symbolic reuse across status
