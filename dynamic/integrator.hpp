@@ -4,7 +4,7 @@
 #include <array>
 
 #include "common/configuration.hpp"
-#include "common/contact_law.hpp"
+#include "contact_forces_law.hpp"
 #include "neighbour_list.hpp"
 #include "state.hpp"
 
@@ -80,18 +80,8 @@ inline Drifted<T> drift_disk(const DriftConstants& k, T x, T y, T vx, T vy, T om
   out.theta = theta + k.dt * out.omega;
   T ex = out.x * k.sx - ref_x, ey = out.y * k.sy - ref_y;
   if constexpr (Periodic) {  // |ex| < 1: nearest image by comparison (no rounding call)
-    ex = select_lazy(
-        ex > 0.5, [&] { return ex - 1.0; },
-        [&] {
-          return select_lazy(
-              ex < -0.5, [&] { return ex + 1.0; }, [&] { return ex; });
-        });
-    ey = select_lazy(
-        ey > 0.5, [&] { return ey - 1.0; },
-        [&] {
-          return select_lazy(
-              ey < -0.5, [&] { return ey + 1.0; }, [&] { return ey; });
-        });
+    ex = minimum_image(ex, 1.0, 0.5);
+    ey = minimum_image(ey, 1.0, 0.5);
   }
   ex = ex * k.ux;
   ey = ey * k.uy;

@@ -1,7 +1,8 @@
 // The drift's SIMD kernel (integrator_simd.hpp). Compiled as contact_forces_simd.cpp (AVX-512,
 // -ffp-contract=off): every lane does the IEEE operations of drift_disk<double> in the same
 // order, and the largest displacement is the same number whatever order the lanes are compared
-// in (squares: no NaN, no -0). Only kick_drift has external linkage.
+// in (squares: no -0; a NaN lane is passed over, as std::max(max, NaN) does). Only kick_drift has
+// external linkage.
 #include "integrator_simd.hpp"
 
 #if defined(__x86_64__)
