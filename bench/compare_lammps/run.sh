@@ -45,6 +45,7 @@ grep -q "gran/hooke/history" <<< "$lmp_help" || { echo "run.sh: lmp lacks gran/h
 mpirun=(mpirun -np 2 --bind-to none --mca mpi_yield_when_idle 1)
 [[ $(id -u) -eq 0 ]] && mpirun+=(--allow-run-as-root)
 
+build="$(realpath -m "$build")"  # the runs below cd into the work directory
 if [[ ! -f "$build/CMakeCache.txt" ]]; then
   cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 fi
