@@ -1,4 +1,5 @@
-// The LU factorisations of the tangent (UMFPACK): symbolic analyses reused per sparsity pattern,
+// The LU factorisations of the tangent (UMFPACK; KLU below LuReuse::klu_max_dofs, klu_factor.cpp):
+// symbolic analyses reused per sparsity pattern,
 // low-rank (Woodbury) updates of a recent factorisation (low_rank_update.cpp), solves deferred to
 // GMRES (gmres.cpp).
 #include "static/linear_solvers.hpp"
@@ -23,79 +24,59 @@
 namespace granstab::statics {
 namespace {
 
-// Symbolic analyses (orderings) of the last few sparsity patterns factorised in this thread: a load
-// step refactorises the same pattern many times (status iterations, Newton, the stability check).
-class SymbolicCache {
- public:
-  ~SymbolicCache() {
-    for (Entry& e : entries_)
-      if (e.symbolic) umfpack_di_free_symbolic(&e.symbolic);
+// A UMFPACK symbolic analysis (ordering) of one sparsity pattern.
+struct UmfpackAnalysis {
+  void* symbolic = nullptr;
+  UmfpackAnalysis() = default;
+  UmfpackAnalysis(const UmfpackAnalysis&) = delete;
+  UmfpackAnalysis& operator=(const UmfpackAnalysis&) = delete;
+  ~UmfpackAnalysis() {
+    if (symbolic) umfpack_di_free_symbolic(&symbolic);
   }
-  // The analysis of k's pattern, computed on a miss; nullptr if UMFPACK fails.
-  void* get(const SparseMatrix& k, const double* control, bool& reused) {
-    const int n = static_cast<int>(k.rows());
-    const double ordering = control[UMFPACK_ORDERING];
-    for (std::size_t e = 0; e < entries_.size(); ++e) {
-      if (entries_[e].ordering != ordering || !entries_[e].pattern.same_as(k)) continue;
-      std::rotate(entries_.begin(), entries_.begin() + e,
-                  entries_.begin() + e + 1);  // most recent first
-      reused = true;
-      return entries_.front().symbolic;
-    }
-    reused = false;
-    double info[UMFPACK_INFO];
-    void* symbolic = nullptr;
-    // With the values, as a fresh analysis would be made (UMFPACK reads them for statistics and
-    // the strategy choice only; the analysis holds for any values on the pattern).
-    if (umfpack_di_symbolic(n, n, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(), &symbolic,
-                            control, info) != UMFPACK_OK) {
-      if (symbolic) umfpack_di_free_symbolic(&symbolic);
-      return nullptr;
-    }
-    if (entries_.size() == capacity) {
-      umfpack_di_free_symbolic(&entries_.back().symbolic);
-      entries_.pop_back();
-    }
-    Entry x;
-    x.pattern.assign(k);
-    x.ordering = ordering;
-    x.symbolic = symbolic;
-    entries_.insert(entries_.begin(), std::move(x));
-    return symbolic;
-  }
-
- private:
-  static constexpr std::size_t capacity = 4;
-  struct Entry {
-    SparsityPattern pattern;
-    double ordering = 0.0;  // control[UMFPACK_ORDERING] of the analysis (LuReuse::metis_min_dofs)
-    void* symbolic = nullptr;
-  };
-  std::vector<Entry> entries_;
 };
 
-SymbolicCache& symbolic_cache() {
-  thread_local SymbolicCache cache;
-  return cache;
+// The analysis of k's pattern with control's ordering, from this thread's cache; nullptr if
+// UMFPACK fails.
+std::shared_ptr<const UmfpackAnalysis> umfpack_analysis(const SparseMatrix& k, double* control,
+                                                        bool& reused) {
+  thread_local AnalysisCache<UmfpackAnalysis> cache;
+  return cache.get(k, control[UMFPACK_ORDERING], reused, [control](const SparseMatrix& m) {
+    auto analysis = std::make_shared<UmfpackAnalysis>();
+    double info[UMFPACK_INFO];
+    const int n = static_cast<int>(m.rows());
+    // With the values, as a fresh analysis would be made (UMFPACK reads them for statistics and
+    // the strategy choice only; the analysis holds for any values on the pattern).
+    if (umfpack_di_symbolic(n, n, m.outerIndexPtr(), m.innerIndexPtr(), m.valuePtr(),
+                            &analysis->symbolic, control, info) != UMFPACK_OK) {
+      return std::shared_ptr<UmfpackAnalysis>();
+    }
+    return analysis;
+  });
 }
 
-// Factorises k (compressed) with UMFPACK; false when singular or failed. reused: the symbolic
-// analysis came from the cache.
-bool factorize_numeric(NumericLu& lu, bool& reused, int metis_min_dofs) {
-  double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
-  umfpack_control(control);
-  if (lu.k.rows() >= metis_min_dofs) control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
+// Factorises k (compressed) with UMFPACK, or KLU below klu_max_dofs rows; false when singular or
+// failed. reused: the symbolic analysis came from the cache.
+bool factorize_numeric(NumericLu& lu, bool& reused, const LuReuse& reuse) {
   LuStatistics& statistics = lu_statistics();
   ++statistics.numeric;
   ++statistics.phase_numeric[static_cast<int>(statistics.phase)];
   const double t0 = thread_seconds();
-  void* symbolic = symbolic_cache().get(lu.k, control, reused);
+  if (lu.k.rows() < reuse.klu_max_dofs) {
+    const bool ok = factorize_klu(lu, reused);
+    if (!reused) ++statistics.symbolic;
+    statistics.numeric_seconds += thread_seconds() - t0;
+    return ok;
+  }
+  double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
+  umfpack_control(control);
+  if (lu.k.rows() >= reuse.metis_min_dofs) control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
+  const std::shared_ptr<const UmfpackAnalysis> analysis = umfpack_analysis(lu.k, control, reused);
   const double t1 = thread_seconds();
   statistics.symbolic_seconds += t1 - t0;
   if (!reused) ++statistics.symbolic;
-  if (!symbolic) return false;
+  if (!analysis) return false;
   const int status = umfpack_di_numeric(lu.k.outerIndexPtr(), lu.k.innerIndexPtr(), lu.k.valuePtr(),
-                                        symbolic, &lu.numeric, control, info);
+                                        analysis->symbolic, &lu.numeric, control, info);
   statistics.numeric_seconds += thread_seconds() - t1;
   if (status != UMFPACK_OK) {  // includes UMFPACK_WARNING_singular_matrix
     if (lu.numeric) umfpack_di_free_numeric(&lu.numeric);
@@ -250,7 +231,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   auto lu = std::make_shared<NumericLu>();
   lu->k = k;
   lu->k.makeCompressed();
-  if (!factorize_numeric(*lu, symbolic_reused_, m.reuse.metis_min_dofs)) return false;
+  if (!factorize_numeric(*lu, symbolic_reused_, m.reuse)) return false;
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
   m.full = lu;
@@ -267,7 +248,7 @@ bool LuFactor::factorise_deferred() const {
   auto lu = std::make_shared<NumericLu>();
   lu->k = std::move(m.k);
   bool reused = false;
-  if (!factorize_numeric(*lu, reused, m.reuse.metis_min_dofs)) {
+  if (!factorize_numeric(*lu, reused, m.reuse)) {
     m.singular = true;
     det_sign_ = 0;
     log10_det_ = -INFINITY;

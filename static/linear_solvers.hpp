@@ -3,8 +3,8 @@
 // SuiteSparse header leaks out of static/ (DEPS.md #9):
 // - CHOLMOD simplicial LL^T for symmetric positive definite systems (a failed factorisation
 //   is the test of positive definiteness; DEPS.md #1-#3);
-// - UMFPACK LU for the full unsymmetric operator with sliding contacts, with the sign of its
-//   determinant (STATIC.md §S3.1 first route, §S3.4 (b)).
+// - UMFPACK LU (KLU for small systems) for the full unsymmetric operator with sliding contacts,
+//   with the sign of its determinant (STATIC.md §S3.1 first route, §S3.4 (b)).
 #include <algorithm>
 #include <memory>
 #include <vector>
@@ -87,6 +87,14 @@ struct LuReuse {
   // 20 states; at 15312 dofs 12 % and 1 %; at 3828 nothing (bench/README.md "Static solver").
   // The threshold keeps the shipped samples (N <= 1400) on their path to the bit.
   int metis_min_dofs = 40000;
+  // KLU instead of UMFPACK for matrices of fewer rows: UMFPACK's numeric factorisation has a fixed
+  // cost of a few hundred microseconds (its frontal matrices, pivot search and memory) that KLU's
+  // left-looking one does not have. Per numeric factorisation in q1 runs (bench_static, one
+  // thread): 282 dofs (periodic-n100) 0.48 -> 0.30 ms, 1128 dofs (2 x 2 tiling) 3.9 -> 2.6 ms,
+  // 2538 (3 x 3) 9.6 -> 7.4, 3819 (series B) 20.9 -> 19.2; the solves are ~25 % faster at 282 dofs.
+  // 2000 keeps series A (N = 1024, ~3000 dofs), series B and the tilings on their paths to the bit
+  // (docs/static.md, "Performance").
+  int klu_max_dofs = 2000;
   // UMFPACK's iterative refinement in solve and solve_transpose (up to 2 steps against K, 5-8
   // unrefined solves' worth). Off, a solve is the exact inverse of the computed factors (backward
   // stable). The load step turns it off (SolverOptions::refine_solves).

@@ -1,11 +1,15 @@
 #pragma once
-// UMFPACK's numeric LU as linear_solvers.cpp, low_rank_update.cpp and gmres.cpp use it. Internal
-// to static/.
+// The numeric LU as linear_solvers.cpp, low_rank_update.cpp and gmres.cpp use it: UMFPACK, or
+// KLU for small systems (LuReuse::klu_max_dofs; klu_factor.cpp). Internal to static/.
+#include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include <Eigen/Dense>
+#include <klu.h>
 #include <umfpack.h>
 
 #include "static/linear_solvers.hpp"
@@ -27,10 +31,63 @@ inline void umfpack_control(double* control) {
   control[UMFPACK_ALLOC_INIT] = 1.0;
 }
 
-// One UMFPACK numeric factorisation with the matrix it factorised (its solves refine against it).
+// Symbolic analyses of the last few sparsity patterns factorised in a thread (one cache per
+// thread and solver): a load step refactorises the same pattern many times (status iterations,
+// Newton, the stability check). `key` tells analyses of one pattern apart (UMFPACK's ordering).
+template <class Analysis>
+class AnalysisCache {
+ public:
+  // The analysis of k's pattern under key, made by make(k) on a miss (nullptr: failed).
+  template <class Make>
+  std::shared_ptr<const Analysis> get(const SparseMatrix& k, double key, bool& reused, Make make) {
+    for (std::size_t e = 0; e < entries_.size(); ++e) {
+      if (entries_[e].key != key || !entries_[e].pattern.same_as(k)) continue;
+      std::rotate(entries_.begin(), entries_.begin() + e,
+                  entries_.begin() + e + 1);  // most recent first
+      reused = true;
+      return entries_.front().analysis;
+    }
+    reused = false;
+    std::shared_ptr<const Analysis> analysis = make(k);
+    if (!analysis) return nullptr;
+    if (entries_.size() == capacity) entries_.pop_back();
+    entries_.insert(entries_.begin(), Entry{SparsityPattern{}, key, analysis});
+    entries_.front().pattern.assign(k);
+    return analysis;
+  }
+
+ private:
+  static constexpr std::size_t capacity = 4;
+  struct Entry {
+    SparsityPattern pattern;
+    double key = 0.0;
+    std::shared_ptr<const Analysis> analysis;
+  };
+  std::vector<Entry> entries_;
+};
+
+// This thread's KLU settings and status (every KLU call takes them).
+klu_common& klu_settings();
+
+// A KLU symbolic analysis (fill-reducing ordering, block triangular form) of one sparsity
+// pattern, shared by the factorisations of that pattern.
+struct KluAnalysis {
+  klu_symbolic* symbolic = nullptr;
+  KluAnalysis() = default;
+  KluAnalysis(const KluAnalysis&) = delete;
+  KluAnalysis& operator=(const KluAnalysis&) = delete;
+  ~KluAnalysis() {
+    if (symbolic) klu_free_symbolic(&symbolic, &klu_settings());
+  }
+};
+
+// One numeric factorisation, UMFPACK's or KLU's, with the matrix it factorised (its solves
+// refine against it).
 struct NumericLu {
-  SparseMatrix k;  // compressed: UMFPACK keeps pointers to it between calls
-  void* numeric = nullptr;
+  SparseMatrix k;           // compressed: UMFPACK keeps pointers to it between calls
+  void* numeric = nullptr;  // UMFPACK
+  std::shared_ptr<const KluAnalysis> analysis;  // KLU: the pattern's analysis and
+  klu_numeric* klu = nullptr;                   // the factors
   int sign = 0;
   double log10_det = -INFINITY;
   NumericLu() = default;
@@ -38,10 +95,12 @@ struct NumericLu {
   NumericLu& operator=(const NumericLu&) = delete;
   ~NumericLu() {
     if (numeric) umfpack_di_free_numeric(&numeric);
+    if (klu) klu_free_numeric(&klu, &klu_settings());
   }
   // sys: UMFPACK_A or UMFPACK_At. refine: UMFPACK's own iterative refinement (up to 2 steps);
   // the low-rank updates refine against their own matrix instead.
   Eigen::VectorXd solve(int sys, const Eigen::VectorXd& b, bool refine = true) const {
+    if (klu) return solve_klu(sys == UMFPACK_At, b, refine);
     if (!numeric) throw std::logic_error("LuFactor::solve without a successful factorisation");
     Eigen::VectorXd x(b.size());
     double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
@@ -60,7 +119,13 @@ struct NumericLu {
     if (status != UMFPACK_OK) throw std::runtime_error("UMFPACK solve failed");
     return x;
   }
+  // The same with KLU's factors (klu_factor.cpp).
+  Eigen::VectorXd solve_klu(bool transposed, const Eigen::VectorXd& b, bool refine) const;
 };
+
+// Factorises lu.k (compressed) with KLU, the analysis of its pattern taken from this thread's
+// cache (reused: found there); sets sign and log10_det. False when singular or failed.
+bool factorize_klu(NumericLu& lu, bool& reused);
 
 // Right-preconditioned GMRES on K x = b (transposed: K^T x = b), M^-1 the unrefined solve with
 // the factors of another matrix, restarted when the recurrence's residual drifts from the true

@@ -1,9 +1,13 @@
 // LuFactor reuses the symbolic analysis of an identical sparsity pattern (static/linear_solvers):
 // the reuse must be detected exactly (same pattern only), and a reused analysis must give the
 // same bits as a fresh one (the q1 stepping follows round-off, docs/static.md "Performance").
+// Both backends: UMFPACK, and KLU below LuReuse::klu_max_dofs (klu_factor.cpp), which must agree
+// with each other and with dense LU to round-off, the determinant's sign exactly.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -17,11 +21,25 @@ namespace {
 
 using testing::grid_matrix;
 
-Eigen::VectorXd fresh_solve(const SparseMatrix& k, const Eigen::VectorXd& b, int& sign) {
+// The reuse of a backend: KLU (the default for these small matrices) or UMFPACK.
+LuReuse backend(bool klu) {
+  LuReuse reuse = default_lu_reuse();
+  reuse.klu_max_dofs = klu ? 1 << 30 : 0;
+  return reuse;
+}
+
+class LuBackends : public ::testing::TestWithParam<bool> {};
+INSTANTIATE_TEST_SUITE_P(Lu, LuBackends, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& i) {
+                           return std::string(i.param ? "klu" : "umfpack");
+                         });
+
+Eigen::VectorXd fresh_solve(const SparseMatrix& k, const Eigen::VectorXd& b, int& sign,
+                            const LuReuse& reuse) {
   // A new thread has an empty cache: the analysis is made from scratch.
   Eigen::VectorXd x;
   std::thread worker([&] {
-    LuFactor lu;
+    LuFactor lu(reuse);
     EXPECT_TRUE(lu.factorize(k));
     EXPECT_FALSE(lu.symbolic_reused());
     x = lu.solve(b);
@@ -31,30 +49,31 @@ Eigen::VectorXd fresh_solve(const SparseMatrix& k, const Eigen::VectorXd& b, int
   return x;
 }
 
-TEST(LuSymbolicReuse, SamePatternReusedBitIdenticalDifferentPatternNot) {
+TEST_P(LuBackends, SamePatternReusedBitIdenticalDifferentPatternNot) {
+  const LuReuse reuse = backend(GetParam());
   const SparseMatrix a = grid_matrix(12, 1u, 4.0, false);
   const SparseMatrix b = grid_matrix(12, 2u, 4.0, false);  // same pattern, other values
   const SparseMatrix c = grid_matrix(12, 3u, 4.0, true);   // one more entry
   const Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(a.rows(), -1.0, 2.0);
-  LuFactor lu;
+  LuFactor lu(reuse);
   ASSERT_TRUE(lu.factorize(a));
   ASSERT_TRUE(lu.factorize(b));
   EXPECT_TRUE(lu.symbolic_reused());
   const Eigen::VectorXd x = lu.solve(rhs);
   EXPECT_LT((b * x - rhs).norm(), 1e-12 * rhs.norm());
   int sign = 0;
-  const Eigen::VectorXd x_fresh = fresh_solve(b, rhs, sign);
+  const Eigen::VectorXd x_fresh = fresh_solve(b, rhs, sign, reuse);
   EXPECT_EQ(sign, lu.determinant_sign());
   for (Eigen::Index i = 0; i < x.size(); ++i) EXPECT_EQ(x[i], x_fresh[i]) << "entry " << i;
-  LuFactor other;
+  LuFactor other(reuse);
   ASSERT_TRUE(other.factorize(c));
   EXPECT_FALSE(other.symbolic_reused());
   EXPECT_LT((c * other.solve(rhs) - rhs).norm(), 1e-12 * rhs.norm());
 }
 
-TEST(LuSymbolicReuse, DeterminantSignWithReusedAnalysis) {
+TEST_P(LuBackends, DeterminantSignWithReusedAnalysis) {
   // Same pattern, diagonal shifted through the spectrum: the sign must follow the dense value.
-  LuFactor lu;
+  LuFactor lu(backend(GetParam()));
   int negative = 0;
   for (double diagonal : {4.0, 0.3, -0.2, -4.0}) {
     const SparseMatrix k = grid_matrix(8, 7u, diagonal, false);
@@ -68,6 +87,74 @@ TEST(LuSymbolicReuse, DeterminantSignWithReusedAnalysis) {
     negative += det < 0.0;
   }
   EXPECT_GT(negative, 0);  // both signs are exercised
+}
+
+// KLU against UMFPACK on the same matrices (every sign of det among them): solves of K and K^T,
+// refined and not, agree to round-off; the determinant's sign exactly, its magnitude to
+// round-off; a singular matrix fails in both.
+TEST(LuBackendsAgree, SolutionsAndDeterminants) {
+  int negative = 0;
+  for (const double diagonal : {4.0, 0.3, -0.2, -4.0}) {
+    for (const unsigned seed : {1u, 7u, 11u}) {
+      const SparseMatrix k = grid_matrix(9, seed, diagonal, seed == 11u);
+      const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(k.rows(), -1.0, 2.0);
+      const Eigen::MatrixXd dense(k);
+      const Eigen::PartialPivLU<Eigen::MatrixXd> reference(dense);
+      const double det = reference.determinant();
+      negative += det < 0.0;
+      for (const bool refine : {false, true}) {
+        LuReuse umfpack_reuse = backend(false), klu_reuse = backend(true);
+        umfpack_reuse.refine = klu_reuse.refine = refine;
+        LuFactor umfpack(umfpack_reuse), klu(klu_reuse);
+        ASSERT_TRUE(umfpack.factorize(k));
+        ASSERT_TRUE(klu.factorize(k));
+        const std::string where = "diagonal " + std::to_string(diagonal) + " seed " +
+                                  std::to_string(seed) + " refine " + std::to_string(refine);
+        EXPECT_EQ(klu.determinant_sign(), det > 0.0 ? 1 : -1) << where;
+        EXPECT_EQ(klu.determinant_sign(), umfpack.determinant_sign()) << where;
+        EXPECT_NEAR(klu.log10_abs_determinant(), std::log10(std::abs(det)), 1e-9) << where;
+        const Eigen::VectorXd x = reference.solve(b);
+        const Eigen::VectorXd xt = reference.transpose().solve(b);
+        const double scale = 1e-11 * dense.norm() * x.norm();
+        EXPECT_LT((klu.solve(b) - x).norm(), 1e-10 * x.norm()) << where;
+        EXPECT_LT((klu.solve_transpose(b) - xt).norm(), 1e-10 * xt.norm()) << where;
+        EXPECT_LT((klu.solve(b) - umfpack.solve(b)).norm(), 1e-10 * x.norm()) << where;
+        EXPECT_LT((k * klu.solve_unrefined(b) - b).norm(), scale + 1e-12 * b.norm()) << where;
+      }
+    }
+  }
+  EXPECT_GT(negative, 0);  // both signs are exercised
+  // A zero column: singular, no factors.
+  SparseMatrix singular = grid_matrix(6, 3u, 4.0, false);
+  for (SparseMatrix::InnerIterator it(singular, 5); it; ++it) it.valueRef() = 0.0;
+  EXPECT_FALSE(LuFactor(backend(true)).factorize(singular));
+  EXPECT_FALSE(LuFactor(backend(false)).factorize(singular));
+}
+
+// The componentwise backward error max_i |b - K x|_i / (|K| |x| + |b|)_i.
+double backward_error(const SparseMatrix& k, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
+  const Eigen::MatrixXd a = Eigen::MatrixXd(k).cwiseAbs();
+  const Eigen::VectorXd r = (b - k * x).cwiseAbs();
+  const Eigen::VectorXd scale = a * x.cwiseAbs() + b.cwiseAbs();
+  return (r.array() / scale.array()).maxCoeff();
+}
+
+// KLU's refinement (klu_factor.cpp): where the threshold pivoting (diagonal preference down to
+// 0.001 of the column) lets the factors grow, the unrefined solve's backward error is well above
+// round-off and the refined one's at it.
+TEST(LuBackendsAgree, KluRefinementReachesRoundOff) {
+  // Diagonal weights 0.005 against off-diagonal ones up to 0.5: 3.5e-14 unrefined, 1.6e-16 refined.
+  const SparseMatrix k = grid_matrix(10, 5u, 0.005, false);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(k.rows(), -1.0, 2.0);
+  LuReuse refined = backend(true), plain = backend(true);
+  plain.refine = false;
+  LuFactor with(refined), without(plain);
+  ASSERT_TRUE(with.factorize(k));
+  ASSERT_TRUE(without.factorize(k));
+  const double eps = std::numeric_limits<double>::epsilon();
+  EXPECT_GT(backward_error(k, b, without.solve(b)), 10.0 * eps);  // there is something to refine
+  EXPECT_LT(backward_error(k, b, with.solve(b)), 2.0 * eps);
+  EXPECT_LT(backward_error(k.transpose(), b, with.solve_transpose(b)), 2.0 * eps);
 }
 
 }  // namespace
@@ -90,6 +177,7 @@ TEST(LuOrdering, MetisAboveTheThresholdSameSolutionAndDeterminant) {
     for (const int min_dofs : {1 << 30, 0}) {
       LuReuse reuse = default_lu_reuse();
       reuse.metis_min_dofs = min_dofs;
+      reuse.klu_max_dofs = 0;  // UMFPACK's ordering is the subject
       reuse.refine = false;
       LuFactor lu(reuse);
       ASSERT_TRUE(lu.factorize(k));
