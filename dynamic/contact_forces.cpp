@@ -160,16 +160,18 @@ template <bool Gathering, bool Periodic, Sweep How>
         }
       };
       double dx, dy, rj;
-      bool closed;
+      bool closed, was_closed;
       if constexpr (How == Sweep::step_simd) {
-        closed = kernel.closed[p - range_begin] != 0;
+        const std::uint8_t flags = kernel.closed[p - range_begin];
+        closed = (flags & simd::closed_now) != 0;
+        was_closed = (flags & simd::was_closed) != 0;
       } else {
         separation(dx, dy);
         rj = radius[j];
         const double reach = ri + rj;
         closed = !(dx * dx + dy * dy >= reach * reach);
+        was_closed = pairs.f_n[p] > 0.0;
       }
-      const bool was_closed = pairs.f_n[p] > 0.0;
       if (!closed) {
         if (!was_closed) {  // open before and after: adds nothing
           if constexpr (Gathering) {

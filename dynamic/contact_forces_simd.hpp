@@ -22,13 +22,14 @@ struct PairBlock {
   const std::int32_t *pair_i, *pair_j;
   const double* alpha;
   double *delta_t, *f_n, *nx, *ny, *lx, *ly;
-  // Scratch, indexed from the first pair of the range, padded by lanes - 1: closed after the
-  // step (1) or not (0), and for closed pairs their force of i on j.
+  // Scratch, indexed from the first pair of the range, padded by lanes - 1: the pair's flags
+  // (closed_now, was_closed: f_n > 0 before the step), and for closed pairs their force of i on j.
   std::uint8_t* closed;
   double *fx, *fy, *fvx, *fvy, *torque_i, *torque_j;
 };
 
 inline constexpr int lanes = 8;
+inline constexpr std::uint8_t closed_now = 1, was_closed = 2;  // PairBlock::closed
 
 // Pairs [begin, end) of the lists. (Not x86-64: a stub that is never called.)
 void pair_law(const PairBlock& b, const PairLawConstants& k, bool periodic, double l1, double l2,
