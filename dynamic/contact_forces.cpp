@@ -399,14 +399,60 @@ bool set_simd_pairs(bool enabled) {
   return simd_pairs();
 }
 
-void plan_parts(PairArrays& pairs, std::size_t n, int team, bool periodic) {
-  plan_team(pairs, static_cast<int>(n), team, !periodic);
+std::vector<std::int32_t> even_parts(std::size_t n, int team) {
+  const long long nb = block_count(n);
+  std::vector<std::int32_t> part_block(team + 1);
+  for (int k = 0; k <= team; ++k) part_block[k] = static_cast<std::int32_t>(nb * k / team);
+  return part_block;
 }
 
-std::array<int, 2> part_disks(std::size_t n, int part, int team) {
-  const int nb = block_count(n), end = static_cast<int>(n);
-  return {std::min(end, part_begin(nb, part, team) * block_size),
-          std::min(end, part_begin(nb, part + 1, team) * block_size)};
+bool valid_parts(const std::vector<std::int32_t>& part_block, std::size_t n, int team) {
+  if (static_cast<int>(part_block.size()) != team + 1 || part_block.front() != 0 ||
+      part_block.back() != block_count(n)) {
+    return false;
+  }
+  for (int k = 0; k < team; ++k)
+    if (part_block[k + 1] <= part_block[k]) return false;
+  return true;
+}
+
+std::vector<std::int32_t> balanced_parts(const std::vector<std::int32_t>& part_block,
+                                         const std::vector<double>& busy, double tolerance) {
+  const int team = static_cast<int>(part_block.size()) - 1;
+  if (team < 2 || static_cast<int>(busy.size()) != team) return part_block;
+  double mean = 0.0, worst = 0.0, speed_sum = 0.0;
+  std::vector<double> speed(team);
+  for (int k = 0; k < team; ++k) {
+    if (!(busy[k] > 0.0)) return part_block;
+    mean += busy[k] / team;
+    worst = std::max(worst, busy[k]);
+    speed[k] = (part_block[k + 1] - part_block[k]) / busy[k];
+    speed_sum += speed[k];
+  }
+  if (worst <= (1.0 + tolerance) * mean) return part_block;
+  // Each part moves half way towards the size its thread's speed would finish with the others.
+  const double blocks = part_block.back();
+  std::vector<std::int32_t> out = part_block;
+  double target_start = 0.0;
+  for (int k = 1; k < team; ++k) {
+    target_start += blocks * speed[k - 1] / speed_sum;
+    const double moved = part_block[k] + 0.5 * (target_start - part_block[k]);
+    out[k] = static_cast<std::int32_t>(std::lround(moved));
+  }
+  for (int k = 1; k < team; ++k)  // at least one block per part
+    out[k] = std::clamp(out[k], out[k - 1] + 1, part_block.back() - (team - k));
+  return out;
+}
+
+void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t>& part_block,
+                bool periodic) {
+  plan_team(pairs, static_cast<int>(n), part_block, !periodic);
+}
+
+std::array<int, 2> part_disks(const PairArrays& pairs, std::size_t n, int part) {
+  const int end = static_cast<int>(n);
+  return {std::min(end, pairs.part_block[part] * block_size),
+          std::min(end, pairs.part_block[part + 1] * block_size)};
 }
 
 void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks) {
@@ -481,7 +527,7 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
   on_team(
       in.parallel ? omp_get_max_threads() : 1, barrier,
       [&](int team) {
-        if (pairs.team != team) plan_parts(pairs, n, team, in.periodic);
+        if (pairs.team != team) plan_parts(pairs, n, even_parts(n, team), in.periodic);
         size_passes(n, pairs, blocks);
       },
       [&](const TeamMember& member) { contact_forces_part(member, disks, pairs, in, blocks); });

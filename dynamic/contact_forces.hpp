@@ -5,6 +5,7 @@
 // disks that have partners in another thread's part): the result is independent of the thread
 // count and of when the Verlet list was last rebuilt (open pairs contribute nothing).
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "common/material.hpp"
@@ -40,12 +41,23 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
                                  std::vector<BlockSums>& blocks);
 
 // --- the passes of a time step, run by a team inside one parallel region (engine.cpp) -------
-// The team's parts: part k of a team of T holds the blocks [nb k / T, nb (k + 1) / T) (nb
-// blocks of block_size disks), whatever the pass, so that each thread keeps its disks' data in
-// its core's cache. plan_parts finds the gathered disks of the split (after every list
-// rebuild and for a new team size); size_passes sizes the per-block scratch.
-void plan_parts(PairArrays& pairs, std::size_t n, int team, bool periodic);
-std::array<int, 2> part_disks(std::size_t n, int part, int team);  // [first, end)
+// The team's parts: part k holds the blocks [part_block[k], part_block[k + 1]) (blocks of
+// block_size disks), whatever the pass, so that each thread keeps its disks' data in its core's
+// cache. plan_parts finds the gathered disks of a split (after every list rebuild, for a new
+// team size and when the split moves); size_passes sizes the per-block scratch. No sum depends
+// on the split (docs/dynamic.md, "Determinism").
+std::vector<std::int32_t> even_parts(std::size_t n, int team);  // nb k / team
+// Whether part_block splits the blocks of n disks into `team` non-empty parts.
+bool valid_parts(const std::vector<std::int32_t>& part_block, std::size_t n, int team);
+// The split after a measurement of busy[k] seconds of work (waits excluded) on part k: unchanged
+// when the slowest part took at most (1 + tolerance) times the mean; otherwise every boundary
+// moves half way towards the split at which the measured speeds (blocks per second) would
+// finish together, each part keeping at least one block.
+std::vector<std::int32_t> balanced_parts(const std::vector<std::int32_t>& part_block,
+                                         const std::vector<double>& busy, double tolerance);
+void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t>& part_block,
+                bool periodic);
+std::array<int, 2> part_disks(const PairArrays& pairs, std::size_t n, int part);  // [first, end)
 void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks);
 
 // The force pass of the member's part (pairs.team must be member.threads): updates delta_t,

@@ -174,7 +174,13 @@ void Engine::run(std::uint64_t steps) {
   if (steps == 0) return;
   const std::size_t n = disks_.size();
   const auto prepare = [&](int team) {
-    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, team, cell_.periodic());
+    if (!dynamic::valid_parts(part_blocks_, n, team)) {
+      part_blocks_ = dynamic::valid_parts(options_.part_blocks, n, team)
+                         ? options_.part_blocks
+                         : dynamic::even_parts(n, team);
+      pairs_.team = 0;
+    }
+    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, part_blocks_, cell_.periodic());
     dynamic::size_passes(n, pairs_, blocks_);
     viscous_blocks_.resize(blocks_.size());
     team_slots_.resize(team);
@@ -194,9 +200,16 @@ namespace {
 constexpr int colocated_steps = 16;
 }  // namespace
 
-void Engine::advance(const dynamic::TeamMember& member, std::uint64_t steps) {
+void Engine::advance(const dynamic::TeamMember& team_member, std::uint64_t steps) {
   Local local{cell_, sums_, neighbours_.rebuild_test(), 0.0};
-  dynamic::TeamMember alone = member;
+  dynamic::TeamClock clock;
+  dynamic::TeamMember member = team_member;
+  const std::uint64_t balance_steps = member.threads > 1 ? options_.balance_steps : 0;
+  if (balance_steps > 0) {
+    member.clock = &clock;
+    clock.leave();
+  }
+  dynamic::TeamMember alone = team_member;
   alone.threads = 1;
   alone.part_first = 0;
   alone.part_end = member.threads;
@@ -204,7 +217,9 @@ void Engine::advance(const dynamic::TeamMember& member, std::uint64_t steps) {
   std::uint32_t hand_backs = 0;
   std::uint64_t s = 0;
   while (s < steps) {
-    colocated = step_on(member, local) ? colocated + 1 : 0;
+    // Every thread counts the same steps (s), so they agree on the balance steps.
+    const bool balance = balance_steps > 0 && (s + 1) % balance_steps == 0;
+    colocated = step_on(member, local, balance) ? colocated + 1 : 0;
     ++s;
     if (colocated < colocated_steps || s == steps) continue;
     colocated = 0;
@@ -223,6 +238,8 @@ void Engine::advance(const dynamic::TeamMember& member, std::uint64_t steps) {
       local = hand_back_.local;
       s = hand_back_.step;
     }
+    clock = dynamic::TeamClock{};  // the time alone is no measure of the parts
+    clock.leave();
   }
   // Threads other than 0 read cell_ and sums_ only before their first barrier (or hand-back),
   // which thread 0 has passed too.
@@ -233,12 +250,12 @@ void Engine::advance(const dynamic::TeamMember& member, std::uint64_t steps) {
   }
 }
 
-// One step on the member's parts; returns whether the whole team ran it on one CPU.
-bool Engine::step_on(const dynamic::TeamMember& member, Local& local) {
+// One step on the member's parts; returns whether the whole team ran it on one CPU. With balance,
+// the team's parts are balanced after the drift (balance_parts).
+bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balance) {
   const std::size_t n = disks_.size();
-  const int parts = pairs_.team;
-  const int first = dynamic::part_disks(n, member.part_first, parts)[0];
-  const int end = dynamic::part_disks(n, member.part_end - 1, parts)[1];
+  const int first = dynamic::part_disks(pairs_, n, member.part_first)[0];
+  const int end = dynamic::part_disks(pairs_, n, member.part_end - 1)[1];
   dynamic::CellState& cell = local.cell;
   BlockSums& sums = local.sums;
   const bool team = member.threads > 1;
@@ -246,7 +263,17 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local) {
   const std::array<double, 2> lambda = dynamic::kick_drift_cell(cell, stage_, dt_);
   const double d2 = dynamic::kick_drift_disks(disks_, cell, lambda, dt_, neighbours_, first, end);
   team_slots_[member.thread].max_d2 = d2;
-  member.sync();
+  if (balance) {
+    member.clock->arrive();  // its work since the last balance, up to this barrier
+    team_slots_[member.thread].busy = member.clock->busy;
+    member.clock->busy = 0.0;
+    member.barrier->wait();
+    if (member.thread == 0) balance_parts();
+    member.barrier->wait();
+    member.clock->leave();
+  } else {
+    member.sync();
+  }
   // Read between this barrier and the next, before any thread writes its slot again.
   local.max_d2 = d2;
   bool colocated = team;
@@ -259,7 +286,7 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local) {
   if (local.rebuild_test(cell, local.max_d2)) {
     if (member.thread == 0) {
       neighbours_.rebuild(disks_, cell, pairs_, material_);
-      dynamic::plan_parts(pairs_, n, parts, cell.periodic());
+      dynamic::plan_parts(pairs_, n, part_blocks_, cell.periodic());
     }
     member.sync();
     local.rebuild_test = neighbours_.rebuild_test();
@@ -287,6 +314,17 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local) {
     time_ += dt_;
   }
   return colocated;
+}
+
+// Thread 0, between two barriers of the team (the others read pairs_ only after the second).
+void Engine::balance_parts() {
+  std::vector<double> busy(team_slots_.size());
+  for (std::size_t t = 0; t < busy.size(); ++t) busy[t] = team_slots_[t].busy;
+  std::vector<std::int32_t> parts = dynamic::balanced_parts(part_blocks_, busy, 0.03);
+  if (parts == part_blocks_) return;
+  part_blocks_ = std::move(parts);
+  ++part_moves_;
+  dynamic::plan_parts(pairs_, disks_.size(), part_blocks_, cell_.periodic());
 }
 
 void Engine::set_dt(double dt) {

@@ -37,6 +37,15 @@ struct EngineOptions {
   // Steps a team that the OS keeps on one CPU runs on one thread before it tries again (see
   // Engine::run); 0: 4e6 / N, about 0.2 s on the test machine. Same bits either way.
   std::uint64_t alone_steps = 0;
+  // Every so many steps a team moves its parts' boundaries (whole blocks of 64 disks) towards
+  // equal work times of its threads, when the slowest took more than 3 % over the mean: a CPU
+  // that runs slower (a busy neighbour of a virtual machine) or a part with more boundary work
+  // then holds fewer disks. 0: the parts stay as they are. Same bits either way (docs/dynamic.md,
+  // "Determinism").
+  std::uint64_t balance_steps = 200;
+  // The team's first split (first block of each part, then the block count; see
+  // dynamic::valid_parts); empty or not valid for the team: even.
+  std::vector<std::int32_t> part_blocks;
 };
 
 class Engine {
@@ -112,6 +121,10 @@ class Engine {
   double cell_kinetic_energy() const;  // sum_a M_a (dL_a/dt)^2 / 2
   std::size_t contact_count() const;   // disk-disk and disk-wall contacts with h > 0
   std::uint64_t neighbour_rebuilds() const { return neighbours_.rebuild_count(); }
+  // The team's split of the last run (first block of each part, then the block count) and how
+  // many times balancing moved it so far.
+  const std::vector<std::int32_t>& part_blocks() const { return part_blocks_; }
+  std::uint64_t part_moves() const { return part_moves_; }
 
  private:
   bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
@@ -128,7 +141,8 @@ class Engine {
   };
   // One thread's share of run(steps), inside the team's parallel region.
   void advance(const dynamic::TeamMember& member, std::uint64_t steps);
-  bool step_on(const dynamic::TeamMember& member, Local& local);
+  bool step_on(const dynamic::TeamMember& member, Local& local, bool balance = false);
+  void balance_parts();  // thread 0, while the team waits
   dynamic::ForceInputs force_inputs(const dynamic::CellState& cell, double dt_tangential,
                                     bool mid_step) const;
   void import_contacts(const Contacts& contacts);
@@ -150,8 +164,11 @@ class Engine {
   dynamic::SpinBarrier barrier_;
   struct alignas(64) TeamSlot {
     double max_d2 = 0.0;
+    double busy = 0.0;  // work seconds since the last balance (at a balance step)
     int cpu = -1;
   };
+  std::vector<std::int32_t> part_blocks_;  // the team's split (PairArrays::part_block)
+  std::uint64_t part_moves_ = 0;
   std::vector<TeamSlot> team_slots_;
   dynamic::Wakeup wakeup_;
   struct HandBack {

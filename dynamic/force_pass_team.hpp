@@ -56,20 +56,20 @@ RowSums gather(const PairArrays& pairs, int i) {
   return s;
 }
 
-int part_begin(int blocks, int part, int team) {
-  return static_cast<int>(static_cast<long long>(blocks) * part / team);
-}
-
-// Which disks a split into `team` parts must gather (see PairArrays): those whose first partner
-// (smallest i of its column) lies before the start of their part. With walls, whole blocks:
-// a block's disk sums (the walls') are then added in disk order after the barrier.
-void plan_team(PairArrays& pairs, int n, int team, bool whole_blocks) {
+// Which disks a split into parts (their first blocks, part_block) must gather (see PairArrays):
+// those whose first partner (smallest i of its column) lies before the start of their part. With
+// walls, whole blocks: a block's disk sums (the walls') are then added in disk order after the
+// barrier.
+void plan_team(PairArrays& pairs, int n, const std::vector<std::int32_t>& part_block,
+               bool whole_blocks) {
   const int nb = block_count(static_cast<std::size_t>(n));
+  const int team = static_cast<int>(part_block.size()) - 1;
+  pairs.part_block = part_block;
   pairs.gathered.assign(n, 0);
   pairs.block_gathered.assign(nb, 0);
   pairs.any_gathered = false;
   for (int part = 0; part < team; ++part) {
-    const int b0 = part_begin(nb, part, team), b1 = part_begin(nb, part + 1, team);
+    const int b0 = part_block[part], b1 = part_block[part + 1];
     const int part_first = b0 * block_size;
     for (int k = part_first; k < std::min(n, b1 * block_size); ++k) {
       const int s = pairs.column_start[k];
@@ -106,8 +106,8 @@ void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
               std::vector<BlockSums>& blocks, Clear clear, Rows rows, Finish finish) {
   const int n = static_cast<int>(disks.size());
   const int nb = block_count(disks.size());
-  const int b0 = part_begin(nb, member.part_first, pairs.team);
-  const int b1 = part_begin(nb, member.part_end, pairs.team);
+  const int b0 = pairs.part_block[member.part_first];
+  const int b1 = pairs.part_block[member.part_end];
   clear(b0 * block_size, std::min(n, b1 * block_size));
   // A thread running several parts sweeps them in order: the running sums of a disk then get
   // their additions in the order of one thread's sweep, and a gathered disk's slots are all

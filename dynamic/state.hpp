@@ -55,12 +55,16 @@ struct PairArrays {
   // Per reduction block: its closed pairs from the start of its pair range in `active`, the
   // pairs that opened during the step from the end (written by the force pass).
   std::vector<std::int32_t> active, block_closed, block_opened;
-  // Split of the blocks between `team` parts (part k: blocks [nb k / team, nb (k + 1) / team),
-  // each run by one thread). A disk is gathered when it has a partner in an earlier part: it
+  // Split of the blocks between `team` parts (part k: the blocks from part_block[k] on, each run
+  // by one thread). A disk is gathered when it has a partner in an earlier part: it
   // would receive forces from two threads. With walls whole blocks are gathered (whole_blocks),
   // so that a block's disk sums keep their order. team = 0: not planned for this list yet (see
   // contact_forces.cpp).
   int team = 0;
+  // The parts' first blocks and the block count (team + 1 entries): part k holds the blocks
+  // [part_block[k], part_block[k + 1]). Even by default; the engine moves the boundaries to
+  // balance its threads' work (EngineOptions::balance_steps). The sums do not depend on them.
+  std::vector<std::int32_t> part_block;
   bool any_gathered = false, whole_blocks = false;
   std::vector<std::uint8_t> gathered;        // per disk
   std::vector<std::uint8_t> block_gathered;  // per block: whether one of its disks is gathered

@@ -9,6 +9,7 @@
 #include <sched.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 
 namespace granstab::dynamic {
@@ -95,16 +96,33 @@ class Wakeup {
   alignas(64) std::atomic<std::uint32_t> count_{0};
 };
 
-// One thread's view of the team inside the region: the parts it runs (a fixed range of whole
-// blocks each, PairArrays::team parts; its own one, or all of them when it runs alone) and the
-// team's barrier (threads: how many meet there).
+// A thread's work time between the team's barriers (its waits excluded), which the engine
+// balances the parts by (EngineOptions::balance_steps). Two clock reads per barrier.
+struct TeamClock {
+  double busy = 0.0;   // seconds of work since the last reset
+  double since = 0.0;  // when this thread last left a barrier
+  static double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+  void arrive() { busy += now() - since; }
+  void leave() { since = now(); }
+};
+
+// One thread's view of the team inside the region: the parts it runs (a range of whole blocks
+// each, PairArrays::part_block; its own one, or all of them when it runs alone), the team's
+// barrier (threads: how many meet there) and, if any, the clock of its work.
 struct TeamMember {
   int thread = 0;
   int threads = 1;
   int part_first = 0, part_end = 1;
   SpinBarrier* barrier = nullptr;
+  TeamClock* clock = nullptr;
   void sync() const {
-    if (threads > 1) barrier->wait();
+    if (threads <= 1) return;
+    if (clock) clock->arrive();
+    barrier->wait();
+    if (clock) clock->leave();
   }
 };
 
@@ -116,7 +134,7 @@ void on_team(int threads, SpinBarrier& barrier, Prepare prepare, Body body) {
   if (threads <= 1) {
     barrier.reset(1);
     prepare(1);
-    body(TeamMember{0, 1, 0, 1, &barrier});
+    body(TeamMember{0, 1, 0, 1, &barrier, nullptr});
     return;
   }
 #pragma omp parallel num_threads(threads)
@@ -128,7 +146,7 @@ void on_team(int threads, SpinBarrier& barrier, Prepare prepare, Body body) {
       prepare(team);
     }  // (implicit barrier)
     const int t = omp_get_thread_num();
-    body(TeamMember{t, team, t, t + 1, &barrier});
+    body(TeamMember{t, team, t, t + 1, &barrier, nullptr});
   }
 }
 

@@ -4,8 +4,11 @@
 #include <omp.h>
 #include <sched.h>
 
+#include <cstdio>
 #include <cstring>
+#include <vector>
 
+#include "dynamic/contact_forces.hpp"
 #include "helpers.hpp"
 
 namespace granstab {
@@ -31,7 +34,7 @@ EngineOptions team_options(std::size_t parallel_min_disks = 0) {
 }
 
 Configuration run(const Configuration& start, int threads, int steps, int split = 0,
-                  const EngineOptions& options = team_options()) {
+                  const EngineOptions& options = team_options(), Engine* last = nullptr) {
   omp_set_num_threads(threads);
   Engine e(start, options);
   if (split > 0) {
@@ -42,6 +45,7 @@ Configuration run(const Configuration& start, int threads, int steps, int split 
   }
   e.run(steps);
   EXPECT_GT(e.neighbour_rebuilds(), 5u);
+  if (last) *last = e;
   return e.configuration();
 }
 
@@ -110,6 +114,50 @@ TEST(Determinism, ATeamOnOneCpuRunsAloneWithTheSameBits) {
   const Configuration shared = run(start, 2, 1500, 0, options);
   bind_team(all);
   expect_identical(shared, run(start, 1, 1500));
+}
+
+// The team's split does not change the bits (EngineOptions::part_blocks, balance_steps): two
+// threads on lopsided parts (one block against six, six against one; 7 blocks of 64 disks), and
+// with the parts rebalanced every step (they move with the measured times), give the bits of
+// one thread.
+TEST(Determinism, PartsOfTheTeamDoNotChangeBits) {
+  const Configuration start = gas();
+  const Configuration one = run(start, 1, 1500);
+  for (const std::vector<std::int32_t>& parts :
+       {std::vector<std::int32_t>{0, 1, 7}, std::vector<std::int32_t>{0, 6, 7}}) {
+    EngineOptions options = team_options();
+    options.part_blocks = parts;
+    options.balance_steps = 0;
+    SCOPED_TRACE(parts[1]);
+    Engine e(start, options);
+    expect_identical(one, run(start, 2, 1500, 0, options, &e));
+    EXPECT_EQ(e.part_blocks(), parts);  // the split was the lopsided one
+  }
+  EngineOptions options = team_options();
+  options.balance_steps = 1;
+  Engine e(start, options);
+  expect_identical(one, run(start, 2, 1500, 0, options, &e));
+  std::printf("balanced every step: %llu moves, last split %d / 7 blocks\n",
+              static_cast<unsigned long long>(e.part_moves()), e.part_blocks()[1]);
+}
+
+// The balance rule (dynamic::balanced_parts): a part whose thread took twice as long gives up
+// blocks, half way towards equal times; within the tolerance nothing moves; every part keeps a
+// block.
+TEST(Determinism, BalancedPartsMoveHalfWayToEqualTimes) {
+  using dynamic::balanced_parts;
+  const std::vector<std::int32_t> even{0, 50, 100};
+  // Speeds 25 and 50 blocks per second: equal times at 33.3 blocks; half way from 50: 41.7.
+  EXPECT_EQ(balanced_parts(even, {2.0, 1.0}, 0.03), (std::vector<std::int32_t>{0, 42, 100}));
+  EXPECT_EQ(balanced_parts(even, {1.0, 2.0}, 0.03), (std::vector<std::int32_t>{0, 58, 100}));
+  EXPECT_EQ(balanced_parts(even, {1.02, 1.0}, 0.03), even);  // within 3 %
+  EXPECT_EQ(balanced_parts({0, 1, 2}, {5.0, 1.0}, 0.03), (std::vector<std::int32_t>{0, 1, 2}));
+  // Three parts, the middle thread slow.
+  EXPECT_EQ(balanced_parts({0, 10, 20, 30}, {1.0, 2.0, 1.0}, 0.03),
+            (std::vector<std::int32_t>{0, 11, 19, 30}));
+  EXPECT_TRUE(dynamic::valid_parts({0, 11, 19, 30}, 30 * 64, 3));
+  EXPECT_FALSE(dynamic::valid_parts({0, 11, 11, 30}, 30 * 64, 3));
+  EXPECT_FALSE(dynamic::valid_parts({0, 11, 30}, 31 * 64, 2));
 }
 
 TEST(Determinism, ParallelThresholdDoesNotChangeBits) {
