@@ -5,28 +5,6 @@
 #include "static/numeric_lu.hpp"
 
 namespace granstab::statics {
-namespace {
-
-// |K| |x| (transposed: |K|^T |x|) without a copy of |K| (a copy per GMRES solve cost ~1 % of a q1
-// run at N = 1400, perf): the sums of Eigen's sparse products, in their order.
-Eigen::VectorXd abs_product(const SparseMatrix& k, const Eigen::VectorXd& x, bool transposed) {
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(transposed ? k.cols() : k.rows());
-  for (Eigen::Index j = 0; j < k.outerSize(); ++j) {
-    if (transposed) {
-      double sum = 0.0;
-      for (SparseMatrix::InnerIterator it(k, j); it; ++it)
-        sum += std::abs(it.value()) * std::abs(x[it.index()]);
-      y[j] += sum;
-    } else {
-      const double xj = std::abs(x[j]);
-      for (SparseMatrix::InnerIterator it(k, j); it; ++it)
-        y[it.index()] += std::abs(it.value()) * xj;
-    }
-  }
-  return y;
-}
-
-}  // namespace
 
 // Right-preconditioned GMRES on K x = b (transposed: K^T x = b), M^-1 the unrefined solve with
 // the factors of another matrix, restarted when the recurrence's residual drifts from the true

@@ -32,16 +32,7 @@ int permutation_sign(const int* p, int n, std::vector<char>& seen) {
 double backward_error(const SparseMatrix& k, bool transposed, const Eigen::VectorXd& b,
                       const Eigen::VectorXd& x, Eigen::VectorXd& r) {
   r = transposed ? Eigen::VectorXd(b - k.transpose() * x) : Eigen::VectorXd(b - k * x);
-  Eigen::VectorXd scale = b.cwiseAbs();
-  for (Eigen::Index j = 0; j < k.outerSize(); ++j) {
-    for (SparseMatrix::InnerIterator it(k, j); it; ++it) {
-      if (transposed) {
-        scale[j] += std::abs(it.value()) * std::abs(x[it.index()]);
-      } else {
-        scale[it.index()] += std::abs(it.value()) * std::abs(x[j]);
-      }
-    }
-  }
+  const Eigen::VectorXd scale = abs_product(k, x, transposed) + b.cwiseAbs();
   double omega = 0.0;
   for (Eigen::Index i = 0; i < r.size(); ++i) {
     if (scale[i] > 0.0) omega = std::max(omega, std::abs(r[i]) / scale[i]);
