@@ -95,9 +95,9 @@ struct LuReuse {
   // 2000 keeps series A (N = 1024, ~3000 dofs), series B and the tilings on their paths to the bit
   // (docs/static.md, "Performance").
   int klu_max_dofs = 2000;
-  // UMFPACK's iterative refinement in solve and solve_transpose (up to 2 steps against K, 5-8
-  // unrefined solves' worth). Off, a solve is the exact inverse of the computed factors (backward
-  // stable). The load step turns it off (SolverOptions::refine_solves).
+  // Iterative refinement in solve and solve_transpose (UMFPACK's, or klu_factor.cpp's for KLU: up
+  // to 2 steps against K, 5-8 unrefined solves' worth). Off, a solve is the exact inverse of the
+  // computed factors (backward stable). The load step turns it off (SolverOptions::refine_solves).
   bool refine = true;
 };
 // The reuse of a default-constructed LuFactor in this thread.
@@ -128,7 +128,7 @@ struct LuStatistics {
   long low_rank = 0;          // factorisations replaced by a low-rank update
   long rank_sum = 0;          // sum of the ranks of those updates
   long too_many = 0;          // updates refused (too many changed columns or too high a rank)
-  long solves = 0;            // solves with UMFPACK's iterative refinement (solve, solve_transpose)
+  long solves = 0;            // solves with iterative refinement (solve, solve_transpose)
   long unrefined_solves = 0;  // solves without it (solve_unrefined, low-rank updates' inner ones)
   long deferred = 0;          // factorisations deferred (LuReuse::krylov)
   long deferred_factorised = 0;   // ... and made later for an exact operator (determinant etc.)
@@ -173,9 +173,9 @@ class LuFactor {
   bool try_solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::VectorXd solve_transpose(const Eigen::VectorXd& b) const;
-  // K^-1 b without UMFPACK's iterative refinement (nor the low-rank update's): the exact inverse
-  // of the computed factors, a fixed linear operator for eigensolvers; about a third of the cost.
-  // Factorises a deferred K first.
+  // K^-1 b without iterative refinement (UMFPACK's, KLU's or the low-rank update's): the exact
+  // inverse of the computed factors, a fixed linear operator for eigensolvers; about a third of the
+  // cost. Factorises a deferred K first.
   Eigen::VectorXd solve_unrefined(const Eigen::VectorXd& b) const;
   // Sign of det K (+1, -1; 0 when singular) and log10 |det K|, always from a factorisation of K
   // or the exact determinant identity of a low-rank update (a deferred K is factorised now).
