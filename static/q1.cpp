@@ -135,7 +135,8 @@ struct Spectrum {
   int symmetric = -1;
   double nearest_zero = std::numeric_limits<double>::quiet_NaN();  // smallest |eigenvalue| found
   Eigen::VectorXd witness;  // x (all dofs) with x^T K x < 0, offered to the next state's check
-  SparseMatrix reduced;     // K on the kept dofs while the count is deferred
+  Eigen::VectorXd arnoldi_start;  // all dofs: the next state's Arnoldi starts from it
+  SparseMatrix reduced;           // K on the kept dofs while the count is deferred
 };
 
 // The deferred inertia of a spectrum: the same LDL^T count the check would have made.
@@ -156,12 +157,17 @@ Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count,
   if (!count || !p.ok || !p.factor) return out;
   const Reduction r = make_reduction(p.kept);
   SparseMatrix k = reduce(p.tangent, r);
-  Eigen::VectorXd witness;
+  Eigen::VectorXd witness, start;
   if (previous && previous->witness.size() == p.tangent.rows())
     witness = reduce(previous->witness, r);
+  if (previous && previous->arnoldi_start.size() == p.tangent.rows())
+    start = reduce(previous->arnoldi_start, r);
   const NegativeEigenvalues e =
-      negative_eigenvalues(k, p.factor.get(), witness.size() > 0 ? &witness : nullptr);
+      negative_eigenvalues(k, p.factor.get(), witness.size() > 0 ? &witness : nullptr,
+                           start.size() > 0 ? &start : nullptr);
   if (!e.ok) return out;
+  if (e.arnoldi_start.size() > 0)
+    out.arnoldi_start = expand(e.arnoldi_start, r, static_cast<int>(p.tangent.rows()));
   out.symmetric = e.symmetric;
   out.nearest_zero = e.nearest_zero;
   if (e.witness.size() > 0) out.witness = expand(e.witness, r, static_cast<int>(p.tangent.rows()));

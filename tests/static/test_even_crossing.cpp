@@ -130,6 +130,42 @@ TEST(NegativeEigenvalues, AWitnessOfAnIndefiniteSymmetricPartSparesTheInertia) {
   EXPECT_FALSE(proves_indefinite(rotation, flat));
 }
 
+// The Arnoldi of a state started from the last state's Ritz vectors (arnoldi_start): along a path
+// of nearby matrices on which two real eigenvalues cross zero, the same counts and eigenvalues as
+// a start from Spectra's fixed vector, in fewer solves.
+TEST(NegativeEigenvalues, ArnoldiStartedFromTheLastStateFindsTheSameInFewerSolves) {
+  NegativeEigenvalueStatistics& statistics = negative_eigenvalue_statistics();
+  long cold_solves = 0, warm_solves = 0;
+  Eigen::VectorXd start;
+  for (int state = 0; state < 12; ++state) {
+    const double a = 0.65 - 0.1 * state;  // a - 0.3 and a + 0.3 cross zero on the way
+    std::vector<double> tail;
+    for (int i = 0; i < 80; ++i) tail.push_back((1.0 + i) * (1.0 + 0.01 * state));
+    SparseMatrix k = blocks({{0.5, 4.0, 0.0}}, {{-2.0, 0.5}, {a, 0.3}}, tail);
+    k.coeffRef(0, 1) = 6.0;  // the symmetric part indefinite: the Arnoldi runs
+    k.coeffRef(1, 0) = -4.0;
+    LuFactor lu;
+    ASSERT_TRUE(lu.factorize(k));
+    long before = statistics.arnoldi_solves;
+    const NegativeEigenvalues cold = negative_eigenvalues(k, &lu);
+    cold_solves += statistics.arnoldi_solves - before;
+    before = statistics.arnoldi_solves;
+    const NegativeEigenvalues warm =
+        negative_eigenvalues(k, &lu, nullptr, start.size() > 0 ? &start : nullptr);
+    warm_solves += statistics.arnoldi_solves - before;
+    ASSERT_TRUE(cold.ok && warm.ok);
+    const int expected = 2 + (a < 0.3) + (a < -0.3);  // -2 +- 0.5 throughout
+    EXPECT_EQ(cold.real, expected) << "state " << state;
+    EXPECT_EQ(warm.real, expected) << "state " << state;
+    EXPECT_NEAR(warm.nearest_zero, cold.nearest_zero, 1e-9 * cold.nearest_zero);
+    ASSERT_EQ(warm.arnoldi_start.size(), k.rows());
+    start = warm.arnoldi_start;
+  }
+  EXPECT_LT(warm_solves, cold_solves);
+  std::printf("Arnoldi solves along the path: %ld from the fixed start, %ld warm\n", cold_solves,
+              warm_solves);
+}
+
 // Three disks of radius 1/2 per period along x (spacing d = 1 - F/K_N), rotations and e2 fixed,
 // the translation pinned on disk 0: the transverse displacements of disks 1 and 2 have the
 // stiffness matrix k [[2, -1], [-1, 2]] with k = K_T - F/d, eigenvalues k and 3k. Both cross zero
