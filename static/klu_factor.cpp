@@ -1,7 +1,8 @@
 // KLU for the small systems (LuReuse::klu_max_dofs): its symbolic analyses reused per sparsity
-// pattern, the determinant's sign and magnitude from its factors, and the iterative refinement
-// that KLU leaves to its caller. UMFPACK's numeric factorisation carries a fixed cost of a few
-// hundred microseconds that dominates below ~1000 dofs (docs/static.md, "Performance").
+// pattern, numeric factorisations refilled into spare factors of the pattern (klu_refactor), the
+// determinant's sign and magnitude from its factors, and the iterative refinement that KLU leaves
+// to its caller. UMFPACK's numeric factorisation carries a fixed cost of a few hundred
+// microseconds that dominates below ~1000 dofs (docs/static.md, "Performance").
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -51,14 +52,21 @@ klu_common& klu_settings() {
   return common;
 }
 
+AnalysisCache<KluAnalysis>& klu_analyses() {
+  // The settings first: thread_locals are destroyed in the reverse order of their construction,
+  // and the analyses (with their spare factors) are freed through them.
+  klu_settings();
+  thread_local AnalysisCache<KluAnalysis> cache;
+  return cache;
+}
+
+void forget_klu_analyses() { klu_analyses().clear(); }
+
 // KLU factorises L U = P (R \ A) Q, L unit lower triangular, R the (positive) row scales, so
 // det A = sign(P) sign(Q) prod(R) prod(diag U).
 bool factorize_klu(NumericLu& lu, bool& reused) {
-  // The settings first: thread_locals are destroyed in the reverse order of their construction,
-  // and the cache's analyses are freed through them.
   klu_common& common = klu_settings();
-  thread_local AnalysisCache<KluAnalysis> cache;
-  lu.analysis = cache.get(lu.k, 0.0, reused, [&common](const SparseMatrix& k) {
+  lu.analysis = klu_analyses().get(lu.k, 0.0, reused, [&common](const SparseMatrix& k) {
     auto analysis = std::make_shared<KluAnalysis>();
     // KLU reads its inputs only; its interface is not const-qualified.
     analysis->symbolic =
@@ -68,11 +76,33 @@ bool factorize_klu(NumericLu& lu, bool& reused) {
   });
   if (!lu.analysis) return false;
   klu_symbolic* symbolic = lu.analysis->symbolic;
-  lu.klu =
-      klu_factor(const_cast<int*>(lu.k.outerIndexPtr()), const_cast<int*>(lu.k.innerIndexPtr()),
-                 const_cast<double*>(lu.k.valuePtr()), symbolic, &common);
-  // A zero pivot: KLU frees the partial factors and returns none (halt_if_singular).
-  if (!lu.klu || common.status != KLU_OK) return false;
+  int* const ap = const_cast<int*>(lu.k.outerIndexPtr());
+  int* const ai = const_cast<int*>(lu.k.innerIndexPtr());
+  double* const ax = const_cast<double*>(lu.k.valuePtr());
+  // A spare's pivot order first. It is kept while the smallest pivot stays as large against the
+  // largest (KLU's rcond, the cheap one) as when partial pivoting chose the order, within a factor
+  // refactor_rcond: a pivot that shrank makes its column's multipliers grow. Otherwise (or on a
+  // zero pivot) KLU pivots afresh.
+  constexpr double refactor_rcond = 0.01;
+  KluAnalysis::Spare spare;
+  if (lu.analysis->take_spare(spare)) {
+    if (klu_refactor(ap, ai, ax, symbolic, spare.numeric, &common) && common.status == KLU_OK &&
+        klu_rcond(symbolic, spare.numeric, &common) &&
+        common.rcond >= refactor_rcond * spare.rcond) {
+      lu.klu = spare.numeric;
+      lu.klu_rcond = spare.rcond;
+      ++lu_statistics().refactorisations;
+    } else {
+      klu_free_numeric(&spare.numeric, &common);
+    }
+  }
+  if (!lu.klu) {
+    lu.klu = klu_factor(ap, ai, ax, symbolic, &common);
+    // A zero pivot: KLU frees the partial factors and returns none (halt_if_singular).
+    if (!lu.klu || common.status != KLU_OK) return false;
+    if (!klu_rcond(symbolic, lu.klu, &common)) return false;
+    lu.klu_rcond = common.rcond;
+  }
   const int n = static_cast<int>(lu.k.rows());
   const double* u = static_cast<const double*>(lu.klu->Udiag);
   thread_local std::vector<char> seen;

@@ -111,7 +111,10 @@ LuReuse& default_lu_reuse() {
   return reuse;
 }
 
-void forget_factorisations() { base_factors().clear(); }
+void forget_factorisations() {
+  base_factors().clear();
+  forget_klu_analyses();
+}
 
 LuStatistics& lu_statistics() {
   thread_local LuStatistics statistics;

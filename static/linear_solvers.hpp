@@ -125,6 +125,7 @@ enum class SolvePhase {
 struct LuStatistics {
   long numeric = 0;           // full numeric factorisations
   long symbolic = 0;          // symbolic analyses among them
+  long refactorisations = 0;  // KLU: numeric ones in a spare's pivot order (klu_refactor)
   long low_rank = 0;          // factorisations replaced by a low-rank update
   long rank_sum = 0;          // sum of the ranks of those updates
   long too_many = 0;          // updates refused (too many changed columns or too high a rank)

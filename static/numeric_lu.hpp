@@ -5,6 +5,7 @@
 #include <cmath>
 #include <ctime>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -76,6 +77,7 @@ class AnalysisCache {
     entries_.front().pattern.assign(k);
     return analysis;
   }
+  void clear() { entries_.clear(); }
 
  private:
   static constexpr std::size_t capacity = 4;
@@ -91,15 +93,46 @@ class AnalysisCache {
 klu_common& klu_settings();
 
 // A KLU symbolic analysis (fill-reducing ordering, block triangular form) of one sparsity
-// pattern, shared by the factorisations of that pattern.
+// pattern, shared by the factorisations of that pattern, and the factors of that pattern no
+// longer in use: klu_refactor refills them in their pivot order, without the pivot search and
+// the symbolic work of each column (half of a factorisation's time on periodic-n100).
 struct KluAnalysis {
   klu_symbolic* symbolic = nullptr;
+  // Spare factors with KLU's rcond (smallest over largest |pivot|) of the pivoting factorisation
+  // that chose their pivot order (klu_factor.cpp judges a refactorisation by it).
+  struct Spare {
+    klu_numeric* numeric = nullptr;
+    double rcond = 0.0;
+  };
   KluAnalysis() = default;
   KluAnalysis(const KluAnalysis&) = delete;
   KluAnalysis& operator=(const KluAnalysis&) = delete;
   ~KluAnalysis() {
+    for (Spare& s : spares_) klu_free_numeric(&s.numeric, &klu_settings());
     if (symbolic) klu_free_symbolic(&symbolic, &klu_settings());
   }
+  // Takes the spare given back last (false: none). Factors are given back and taken in the
+  // order of the run, so the pivot orders, and the bits, are those of a fixed sequence of calls.
+  bool take_spare(Spare& s) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (spares_.empty()) return false;
+    s = spares_.back();
+    spares_.pop_back();
+    return true;
+  }
+  void give_back(Spare s) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (spares_.size() < max_spares) {
+      spares_.push_back(s);
+    } else {
+      klu_free_numeric(&s.numeric, &klu_settings());
+    }
+  }
+
+ private:
+  static constexpr std::size_t max_spares = 4;
+  mutable std::mutex mutex_;  // a factorisation may end in another thread than its analysis'
+  mutable std::vector<Spare> spares_;
 };
 
 // One numeric factorisation, UMFPACK's or KLU's, with the matrix it factorised (its solves
@@ -109,6 +142,7 @@ struct NumericLu {
   void* numeric = nullptr;  // UMFPACK
   std::shared_ptr<const KluAnalysis> analysis;  // KLU: the pattern's analysis and
   klu_numeric* klu = nullptr;                   // the factors
+  double klu_rcond = 0.0;  // KLU: the rcond of the pivoting factorisation that chose their pivots
   int sign = 0;
   double log10_det = -INFINITY;
   NumericLu() = default;
@@ -116,7 +150,7 @@ struct NumericLu {
   NumericLu& operator=(const NumericLu&) = delete;
   ~NumericLu() {
     if (numeric) umfpack_di_free_numeric(&numeric);
-    if (klu) klu_free_numeric(&klu, &klu_settings());
+    if (klu) analysis->give_back({klu, klu_rcond});
   }
   // sys: UMFPACK_A or UMFPACK_At. refine: UMFPACK's own iterative refinement (up to 2 steps);
   // the low-rank updates refine against their own matrix instead.
@@ -147,6 +181,9 @@ struct NumericLu {
 // Factorises lu.k (compressed) with KLU, the analysis of its pattern taken from this thread's
 // cache (reused: found there); sets sign and log10_det. False when singular or failed.
 bool factorize_klu(NumericLu& lu, bool& reused);
+// Drops this thread's KLU analyses and with them their spare factors: a run that starts here
+// takes no pivot order from an earlier one (forget_factorisations).
+void forget_klu_analyses();
 
 // Right-preconditioned GMRES on K x = b (transposed: K^T x = b), M^-1 the unrefined solve with
 // the factors of another matrix, restarted when the recurrence's residual drifts from the true

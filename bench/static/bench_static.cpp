@@ -134,9 +134,10 @@ int main(int argc, char** argv) {
         t.newton_iterations);
     const statics::LuStatistics& lu = statics::lu_statistics();
     std::printf(
-        "LuFactor: %ld numeric factorisations (%ld symbolic analyses), %ld low-rank updates "
-        "(mean rank %.1f), %ld updates refused; %ld refined solves (%.2f s CPU), %ld unrefined\n",
-        lu.numeric, lu.symbolic, lu.low_rank,
+        "LuFactor: %ld numeric factorisations (%ld symbolic analyses, %ld KLU refactorisations), "
+        "%ld low-rank updates (mean rank %.1f), %ld updates refused; %ld refined solves (%.2f s "
+        "CPU), %ld unrefined\n",
+        lu.numeric, lu.symbolic, lu.refactorisations, lu.low_rank,
         lu.low_rank > 0 ? double(lu.rank_sum) / lu.low_rank : 0.0, lu.too_many, lu.solves,
         lu.solve_seconds, lu.unrefined_solves);
     std::printf("LuFactor CPU: symbolic analyses %.2f s, numeric factorisations %.2f s\n",

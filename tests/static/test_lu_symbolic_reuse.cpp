@@ -157,6 +157,63 @@ TEST(LuBackendsAgree, KluRefinementReachesRoundOff) {
   EXPECT_LT(backward_error(k.transpose(), b, with.solve_transpose(b)), 2.0 * eps);
 }
 
+// KLU refactorises in the pivot order of a factorisation no longer in use (a spare of the same
+// pattern, klu_factor.cpp): the sign and magnitude of det follow the dense values across the
+// spectrum, the solves are accurate; a spare whose order puts a tiny pivot on the diagonal is not
+// used (KLU pivots afresh); forget_factorisations drops the spares.
+TEST(LuBackendsAgree, KluRefactorisesInASparesPivotOrder) {
+  std::thread worker([] {  // a new thread: no spares from other tests
+    const LuReuse reuse = backend(true);
+    LuStatistics& statistics = lu_statistics();
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(64, -1.0, 2.0);
+    const auto factorise = [&](const SparseMatrix& k, const std::string& where) {
+      // A factor that ends with this scope: its numeric object becomes the next one's spare.
+      LuFactor lu(reuse);
+      ASSERT_TRUE(lu.factorize(k)) << where;
+      const Eigen::MatrixXd dense(k);
+      const double det = dense.determinant();
+      EXPECT_EQ(lu.determinant_sign(), det > 0.0 ? 1 : -1) << where;
+      EXPECT_NEAR(lu.log10_abs_determinant(), std::log10(std::abs(det)), 1e-9) << where;
+      const Eigen::VectorXd x = dense.partialPivLu().solve(b);
+      EXPECT_LT((lu.solve(b) - x).norm(), 1e-10 * x.norm()) << where;
+      EXPECT_LT((lu.solve_transpose(b) - dense.transpose().partialPivLu().solve(b)).norm(),
+                1e-10 * x.norm())
+          << where;
+    };
+    // Pairs of matrices: the second, of other values (its diagonal 1 % larger, some rows
+    // negated: det changes sign with their number), is refactorised in the first one's order.
+    int negative = 0;
+    for (const double diagonal : {4.0, -4.0})
+      for (const int negated : {0, 1, 2}) {
+        const std::string where =
+            "diagonal " + std::to_string(diagonal) + ", " + std::to_string(negated) + " negated";
+        factorise(grid_matrix(8, 9u, diagonal, false), where);
+        SparseMatrix k = grid_matrix(8, 9u, diagonal * 1.01, false);
+        for (int j = 0; j < k.outerSize(); ++j)
+          for (SparseMatrix::InnerIterator it(k, j); it; ++it)
+            if (it.row() < negated * 20 && it.row() % 20 == 0) it.valueRef() = -it.value();
+        const long before = statistics.refactorisations;
+        factorise(k, where + ", refactorised");
+        EXPECT_EQ(statistics.refactorisations, before + 1) << where;
+        negative += Eigen::MatrixXd(k).determinant() < 0.0;
+      }
+    EXPECT_GT(negative, 0);  // both signs are exercised
+    // The diagonal at 1e-13 against off-diagonal entries up to 0.5: the spare's diagonal pivots
+    // would be tiny, so KLU pivots off the diagonal instead.
+    SparseMatrix tiny = grid_matrix(8, 9u, 4.0, false);
+    for (int j = 0; j < tiny.outerSize(); ++j) tiny.coeffRef(j, j) = 1e-13;
+    long before = statistics.refactorisations;
+    factorise(tiny, "tiny diagonal");
+    EXPECT_EQ(statistics.refactorisations, before);
+    // A spare exists again (the tiny one's), but a run that forgets takes none.
+    forget_factorisations();
+    before = statistics.refactorisations;
+    factorise(grid_matrix(8, 9u, 4.0, false), "after forget_factorisations");
+    EXPECT_EQ(statistics.refactorisations, before);
+  });
+  worker.join();
+}
+
 }  // namespace
 }  // namespace granstab::statics
 
