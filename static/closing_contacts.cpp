@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
+#include <vector>
 #include <tuple>
 
 #include "common/contact_law.hpp"
@@ -22,13 +22,19 @@ std::vector<NewContact> closing_contacts(const Network& net, const Eigen::Vector
     x[i] = (1.0 + e[0]) * net.x[i] + (m.ux[i] >= 0 ? dq[m.ux[i]] : 0.0);
     y[i] = (1.0 + e[1]) * net.y[i] + (m.uy[i] >= 0 ? dq[m.uy[i]] : 0.0);
   }
-  // Existing pairs, in both orientations of (i, j, k).
-  std::set<std::tuple<int, int, int, int>> known;
+  // Existing pairs, in both orientations of (i, j, k): sorted, looked up by bisection.
+  using Pair = std::tuple<int, int, int, int>;
+  std::vector<Pair> pairs_known;
   const Contacts& k = net.contacts;
+  pairs_known.reserve(2 * k.size());
   for (std::size_t c = 0; c < k.size(); ++c) {
-    known.insert({k.i[c], k.j[c], k.k1[c], k.k2[c]});
-    if (!is_wall(k.j[c])) known.insert({k.j[c], k.i[c], -k.k1[c], -k.k2[c]});
+    pairs_known.emplace_back(k.i[c], k.j[c], k.k1[c], k.k2[c]);
+    if (!is_wall(k.j[c])) pairs_known.emplace_back(k.j[c], k.i[c], -k.k1[c], -k.k2[c]);
   }
+  std::sort(pairs_known.begin(), pairs_known.end());
+  const auto known = [&pairs_known](const Pair& p) {
+    return std::binary_search(pairs_known.begin(), pairs_known.end(), p);
+  };
   std::vector<NewContact> found;
   const bool periodic = net.boundary == Boundary::periodic;
   Cell cell;
@@ -37,7 +43,7 @@ std::vector<NewContact> closing_contacts(const Network& net, const Eigen::Vector
   for (std::size_t i = 0; i < n; ++i) {
     if (!m.active(i) || periodic) continue;
     for (Wall w : {wall_left, wall_right, wall_bottom, wall_top})
-      if (!known.count({static_cast<int>(i), w, 0, 0}) &&
+      if (!known({static_cast<int>(i), w, 0, 0}) &&
           disk_wall_frame(x[i], y[i], net.radius[i], w, cell).h > 0.0)
         found.push_back({static_cast<int>(i), w, 0, 0});
   }
@@ -48,7 +54,7 @@ std::vector<NewContact> closing_contacts(const Network& net, const Eigen::Vector
     if (with_rattlers ? !m.active(a) && !m.active(b) : !m.active(a) || !m.active(b)) return;
     const double dx = x[b] + k1 * l1 - x[a], dy = y[b] + k2 * l2 - y[a];
     const double reach = net.radius[a] + net.radius[b];
-    if (dx * dx + dy * dy < reach * reach && !known.count({a, b, k1, k2}))
+    if (dx * dx + dy * dy < reach * reach && !known({a, b, k1, k2}))
       found.push_back({a, b, k1, k2});
   };
   double r_max = 0.0;

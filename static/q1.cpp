@@ -172,6 +172,7 @@ Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count,
   out.nearest_zero = e.nearest_zero;
   if (e.witness.size() > 0) out.witness = expand(e.witness, r, static_cast<int>(p.tangent.rows()));
   if (e.symmetric == indefinite_uncounted) out.reduced = std::move(k);
+  if (e.modes.empty()) return out;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
   for (const Eigen::VectorXd& v : e.modes)
