@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <tuple>
+#include <vector>
 
 #include "common/contact_law.hpp"
 #include "common/pair_search.hpp"

@@ -170,7 +170,7 @@ NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* 
     InverseOperator op(*lu, n);
     const int nev = std::min(6, n - 3);
     // From the last state's Ritz vectors a smaller Krylov space does: 14 vectors instead of 20
-    // took a fifth off the solves of the main job's q1 runs (bench/README.md, "Static solver").
+    // took a quarter off the solves of the main job's q1 runs (bench/README.md, "Static solver").
     const bool warm = start && start->size() == n && start->norm() > 0.0;
     const int ncv = std::min(n, warm ? 2 * nev + 2 : 2 * nev + 8);
     Spectra::GenEigsRealShiftSolver<InverseOperator> eigs(op, nev, ncv, 0.0);
