@@ -3,13 +3,15 @@
 # conversions and the convention differences that remain; results in bench/README.md.
 #
 #   bench/compare_lammps/run.sh [--build DIR] [--work DIR] [--sizes "1400 5600 22400"]
-#                               [--repeats 3] [--particle-steps 2.24e7] [--quick]
+#                               [--repeats 3] [--particle-steps 2.24e7] [--quick] [--pin CPU]
 #
 # For each N: one packing (make_packing), then per repeat, interleaved: LAMMPS on 1 process,
 # granstab on 1 thread, LAMMPS on 2 MPI processes, granstab on 2 OpenMP threads, each running
 # the same strain-rate test for the same number of steps (particle-steps / N). Prints the
 # particle-steps per second (medians over the repeats), the ratios, and checks the two codes'
 # stress curves (compare.py). --quick divides the particle-steps by 8 and uses 3 repeats.
+# --pin CPU runs both one-process runs on that CPU (taskset): on a VM whose CPUs run at unequal
+# speeds, the one-thread ratio then compares the codes, not the CPUs they landed on.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
@@ -18,6 +20,7 @@ work="${TMPDIR:-/tmp}/granstab-compare-lammps"
 sizes="1400 5600 22400"
 repeats=3
 particle_steps=2.24e7
+pin=()
 lmp_skin=${LMP_SKIN:-0.05}  # neighbour settings, see README.md ("Neighbour settings")
 gs_skin=${GS_SKIN:-0.1}
 while [[ $# -gt 0 ]]; do
@@ -28,6 +31,7 @@ while [[ $# -gt 0 ]]; do
     --repeats) repeats="$2"; shift 2 ;;
     --particle-steps) particle_steps="$2"; shift 2 ;;
     --quick) particle_steps=2.8e6; shift ;;
+    --pin) pin=(taskset -c "$2"); shift 2 ;;
     *) echo "run.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -57,6 +61,7 @@ mkdir -p "$work"
 cd "$work"
 echo "# machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) CPUs; LAMMPS $(grep -m1 'Large-scale' <<< "$lmp_help" | sed 's/.*Simulator - //')"
 echo "# work directory: $work; load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+[[ ${#pin[@]} -gt 0 ]] && echo "# one-process runs: ${pin[*]}"
 export OMP_WAIT_POLICY=passive
 for n in $sizes; do
   if [[ ! -f "p$n.env" ]]; then
@@ -77,8 +82,9 @@ for r in $(seq 1 "$repeats"); do
   for n in $sizes; do
     steps=$(awk -v p="$particle_steps" -v n="$n" 'BEGIN { s = int(p / n / 100) * 100; print (s < 200 ? 200 : s) }')
     every=$((steps / 20))
-    lammps "$n" "$steps" "$every" "lammps_${n}_1_$r.out"
-    OMP_NUM_THREADS=1 "$run_granstab" "p$n.granstab" "$steps" "$every" 1 "$gs_skin" > "granstab_${n}_1_$r.out"
+    lammps "$n" "$steps" "$every" "lammps_${n}_1_$r.out" "${pin[@]}"
+    OMP_NUM_THREADS=1 "${pin[@]}" "$run_granstab" "p$n.granstab" "$steps" "$every" 1 "$gs_skin" \
+      > "granstab_${n}_1_$r.out"
     lammps "$n" "$steps" "$every" "lammps_${n}_2_$r.out" "${mpirun[@]}"
     OMP_NUM_THREADS=2 "$run_granstab" "p$n.granstab" "$steps" "$every" 2 "$gs_skin" > "granstab_${n}_2_$r.out"
     echo "# repeat $r, N = $n, $steps steps done; load average $(cut -d' ' -f1-3 /proc/loadavg)"
