@@ -12,6 +12,8 @@ export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
 # N = 100 equilibrium sample with the same delta q (the SPEC §3.3 reference values 1e-3 and 1e-2),
 # at the SPEC §3.2 series B biaxial friction mu = 0.5 and at the sample's mu_prep = 0.15;
 # pictures drawn with matplotlib.
+# (bench/static/main_job_ratios.sh repeats the six compare runs below for its timings: keep the
+# two lists in step.)
 sample="$root/data/samples/periodic-n100-k1e4.granstab"
 results="${RESULTS_DIR:-$root/results}/periodic-n100-k1e4"
 for run in "0.5 0.001" "0.15 0.001" "0.5 0.01" "0.15 0.01"; do

@@ -20,6 +20,7 @@ done
 pin=()
 [ -n "$cpu" ] && pin=(taskset -c "$cpu")
 sample="$root/data/samples/periodic-n100-k1e4.granstab"
+# The runs of scripts/main-job.sh, in its order (keep the two lists in step).
 runs=("mu0.5-dq1e-3|--dq 0.001 --mu 0.5 --probe-states 4"
   "mu0.15-dq1e-3|--dq 0.001 --mu 0.15 --probe-states 4"
   "mu0.5-dq1e-2|--dq 0.01 --mu 0.5"
