@@ -16,28 +16,29 @@
 namespace granstab::dynamic {
 namespace {
 
-// Adds a pair's force to its disks in the order of the sums (docs/dynamic.md,
-// "Determinism"): j's running sum in memory (its rows come later), i's in registers. Gathered
-// disks get theirs after the barrier from the pair's slot instead.
-template <bool Gathering>
-inline void add_pair(DiskArrays& d, PairArrays& pairs, int p, int j, const PairArrays::Force& f,
-                     RowSums& row) {
-  if constexpr (Gathering) {
-    if (pairs.slotted[p]) pairs.force[p] = f;
-    if (pairs.gathered[j]) {
-      row.fx -= f.fx;
-      row.fy -= f.fy;
-      row.fvx -= f.fvx;
-      row.fvy -= f.fvy;
-      row.torque += f.torque_i;
-      return;
-    }
-  }
+// A pair's force of i on j and its torques (the sweep's; the kernel's scratch holds the same).
+struct PairForce {
+  double fx, fy;    // elastic + frictional
+  double fvx, fvy;  // viscous
+  double torque_i, torque_j;
+};
+
+// Adds a pair's force to disk j's running sum in memory (its own row comes later).
+[[gnu::always_inline]] inline void add_to_j(DiskArrays& d, int j, const PairForce& f) {
   d.fx[j] += f.fx;
   d.fy[j] += f.fy;
   d.fvx[j] += f.fvx;
   d.fvy[j] += f.fvy;
   d.torque[j] += f.torque_j;
+}
+
+// Adds a pair's force to its disks in the order of the sums (docs/dynamic.md,
+// "Determinism"): j's running sum in memory, i's in registers. A crossing pair's j belongs to a
+// later part, whose thread adds it through the pair's mirror.
+template <bool Crossing>
+[[gnu::always_inline]] inline void add_pair(DiskArrays& d, const PairArrays& pairs, int p, int j,
+                                            const PairForce& f, RowSums& row) {
+  if (!Crossing || !pairs.crossing[p]) add_to_j(d, j, f);
   row.fx -= f.fx;
   row.fy -= f.fy;
   row.fvx -= f.fvx;
@@ -45,11 +46,11 @@ inline void add_pair(DiskArrays& d, PairArrays& pairs, int p, int j, const PairA
   row.torque += f.torque_i;
 }
 
-// Scratch of the SIMD kernel for one block's pairs (per thread; grown as needed).
+// Scratch of the SIMD kernel for one range of pairs (per thread; grown as needed).
 struct KernelScratch {
   std::vector<std::uint8_t> closed;
   std::vector<double> fx, fy, fvx, fvy, torque_i, torque_j;
-  simd::PairBlock view(DiskArrays& d, PairArrays& pairs, const ForceInputs& in, int count) {
+  simd::PairBlock view(DiskArrays& d, PairState& pairs, const ForceInputs& in, int count) {
     const std::size_t n = static_cast<std::size_t>(count) + simd::lanes - 1;
     if (closed.size() < n) {
       closed.resize(n);
@@ -59,9 +60,9 @@ struct KernelScratch {
     v.x = d.x.data();
     v.y = d.y.data();
     v.radius = d.radius.data();
-    v.vx = d.vx.data();
-    v.vy = d.vy.data();
-    v.omega = d.omega.data();
+    v.vx = in.vx;
+    v.vy = in.vy;
+    v.omega = in.omega;
     v.vvx = in.vx_viscous;
     v.vvy = in.vy_viscous;
     v.pair_i = pairs.i.data();
@@ -98,7 +99,7 @@ PairLawConstants law_constants(const ForceInputs& in) {
 }
 
 // How a force pass computes the law of the closed pairs. In a time step (ForceInputs::kick) the
-// viscous pass that follows rewrites every closed pair's viscous force (PairArrays::viscous_x,
+// viscous pass that follows rewrites every closed pair's viscous force (PairState::viscous_x,
 // _y; with zeta = 0 there is none, but then every such force is a zero, and a zero of either
 // sign leaves the sums, which start at +0, unchanged), so the force pass stores it only when it
 // evaluates a state (no viscous pass follows; the next step's opening pairs read it).
@@ -108,129 +109,175 @@ enum class Sweep {
   step_simd,  // the SIMD kernel's law (same bits), read from its scratch
 };
 
-// The pairs (rows) of the disks [first, end) of block b, added to both disks as they go. Also
-// lists the block's closed pairs (from the start of its pair range) and the pairs that opened
-// during the step (from the end), for the viscous pass. With Sweep::step_simd, the kernel has
-// done the distance test and the law of the block's pairs first and the sweep reads them from
-// its scratch. The inputs are copied to locals: the stores into the force arrays could
-// otherwise alias them.
-template <bool Gathering, bool Periodic, Sweep How>
+// What a force pass reads of the disks, and the pass's constants; copied to locals, since the
+// stores into the force arrays could otherwise alias them.
+struct PassInputs {
+  const double *x, *y, *radius, *vx, *vy, *omega, *vvx, *vvy;
+  PairLawConstants k;
+  double l1, l2, half_l1, half_l2, dt;
+  PassInputs(const DiskArrays& d, const ForceInputs& in)
+      : x(d.x.data()),
+        y(d.y.data()),
+        radius(d.radius.data()),
+        vx(in.vx),
+        vy(in.vy),
+        omega(in.omega),
+        vvx(in.vx_viscous),
+        vvy(in.vy_viscous),
+        k(law_constants(in)),
+        l1(in.length[0]),
+        l2(in.length[1]),
+        half_l1(0.5 * l1),
+        half_l2(0.5 * l2),
+        dt(in.dt) {}
+};
+
+// Disk i of a pair, as the sweep of its row holds it.
+struct RowDisk {
+  double x, y, r, vx, vy, omega, vvx, vvy;
+  RowDisk(const PassInputs& a, int i)
+      : x(a.x[i]),
+        y(a.y[i]),
+        r(a.radius[i]),
+        vx(a.vx[i]),
+        vy(a.vy[i]),
+        omega(a.omega[i]),
+        vvx(a.vvx[i]),
+        vvy(a.vvy[i]) {}
+};
+
+enum class Outcome { open, opened, closed };
+
+// The law of pair p of `s` (the list's or a mirror's) between disk i (held in `di`) and j, for
+// the sweep: updates the pair's state and, unless it was open before and after, gives its force
+// (an opened pair keeps the share of its viscous force of the part of the step it was closed)
+// and lists it in s.active (closed from next_closed on, opened from next_opened down). dx, dy:
+// the branch vector of a closed pair.
+template <bool Periodic, Sweep How>
+[[gnu::always_inline]] inline Outcome pair_force(PairState& s, int p, int j, const RowDisk& di,
+                                                 const PassInputs& a, const simd::PairBlock& kernel,
+                                                 int range_begin, int& next_closed,
+                                                 int& next_opened, PairForce& f, double& dx,
+                                                 double& dy) {
+  const auto separation = [&]() {
+    dx = a.x[j] - di.x;
+    dy = a.y[j] - di.y;
+    if constexpr (Periodic) {
+      dx = minimum_image(dx, a.l1, a.half_l1);
+      dy = minimum_image(dy, a.l2, a.half_l2);
+    }
+  };
+  double rj = 0.0;
+  bool closed, was_closed;
+  if constexpr (How == Sweep::step_simd) {
+    const std::uint8_t flags = kernel.closed[p - range_begin];
+    closed = (flags & simd::closed_now) != 0;
+    was_closed = (flags & simd::was_closed) != 0;
+  } else {
+    separation();
+    rj = a.radius[j];
+    const double reach = di.r + rj;
+    closed = !(dx * dx + dy * dy >= reach * reach);
+    was_closed = s.f_n[p] > 0.0;
+  }
+  if (!closed) {
+    if (!was_closed) return Outcome::open;  // open before and after: adds nothing
+    // Opened during the step: the tangential state is dropped (SPEC §1.1), and the closing
+    // half kick keeps the share of the viscous force of the part of the step it was closed.
+    if constexpr (How == Sweep::step_simd) {
+      separation();
+      rj = a.radius[j];
+    }
+    double share = 0.0;
+    if (a.dt > 0.0) {
+      const ContactFrame frame = disk_disk_frame(dx, dy, di.r, rj);
+      const double affine_x = Periodic ? a.k.rate_t1 * dx : 0.0;
+      const double affine_y = Periodic ? a.k.rate_t2 * dy : 0.0;
+      const double h_rate =
+          deflection_rate(frame, a.vx[j] - di.vx + affine_x, a.vy[j] - di.vy + affine_y);
+      share = viscous_share_opening(frame.h, h_rate, a.dt);
+    }
+    f = {0.0, 0.0, share * s.viscous_x[p], share * s.viscous_y[p], 0.0, 0.0};
+    s.delta_t[p] = 0.0;
+    s.f_n[p] = 0.0;
+    s.active[--next_opened] = p;
+    return Outcome::opened;
+  }
+  s.active[next_closed++] = p;
+  if constexpr (How == Sweep::step_simd) {
+    dx = s.lx[p];
+    dy = s.ly[p];
+    const int k = p - range_begin;
+    f = {kernel.fx[k],  kernel.fy[k],       kernel.fvx[k],
+         kernel.fvy[k], kernel.torque_i[k], kernel.torque_j[k]};
+  } else {
+    const auto keep_state = [&](double delta_t, double f_n, double nx, double ny) {
+      s.delta_t[p] = delta_t;
+      s.f_n[p] = f_n;
+      s.nx[p] = nx;
+      s.ny[p] = ny;
+      s.lx[p] = dx;
+      s.ly[p] = dy;
+    };
+    const ClosedPair<double> c = closed_pair_law<Periodic>(
+        a.k, dx, dy, di.r, rj, di.vx, di.vy, di.omega, a.vx[j], a.vy[j], a.omega[j], di.vvx, di.vvy,
+        a.vvx[j], a.vvy[j], s.alpha[p], s.delta_t[p], was_closed, keep_state);
+    if constexpr (How == Sweep::evaluate) {
+      s.viscous_x[p] = c.fvx;
+      s.viscous_y[p] = c.fvy;
+    }
+    f = {c.fx, c.fy, c.fvx, c.fvy, c.torque_i, c.torque_j};
+  }
+  return Outcome::closed;
+}
+
+// With Sweep::step_simd, the kernel's distance tests and laws of the pairs [begin, end) of s
+// (before the sweep reads them from its scratch).
+template <Sweep How>
+[[gnu::always_inline]] inline simd::PairBlock run_kernel(DiskArrays& d, PairState& s,
+                                                         const ForceInputs& in, const PassInputs& a,
+                                                         int begin, int end) {
+  [[maybe_unused]] simd::PairBlock kernel{};
+  if constexpr (How == Sweep::step_simd) {
+    thread_local KernelScratch scratch;
+    kernel = scratch.view(d, s, in, end - begin);
+    // A copy: a's address must not escape, or GCC reloads its members after every store.
+    const PairLawConstants k = a.k;
+    simd::pair_law(kernel, k, in.periodic, a.l1, a.l2, begin, end);
+  }
+  return kernel;
+}
+
+// The pairs (rows) of the disks [first, end) of block b, added to both disks as they go (a
+// crossing pair to i only). Also lists the block's closed pairs (from the start of its pair
+// range) and the pairs that opened during the step (from the end), for the viscous pass.
+template <bool Crossing, bool Periodic, Sweep How>
 [[gnu::always_inline]] inline void pair_forces(DiskArrays& d, PairArrays& pairs,
                                                const ForceInputs& in, int b, int first, int end,
                                                BlockSums& block_sums) {
   // The sums in a local: through the reference, GCC keeps them in memory (3 instructions more
   // per closed pair when this function is not inlined).
   BlockSums sums = block_sums;
-  const PairLawConstants k = law_constants(in);
-  const double l1 = in.length[0], l2 = in.length[1], half_l1 = 0.5 * l1, half_l2 = 0.5 * l2;
-  const double dt = in.dt;
-  const double* const x = d.x.data();
-  const double* const y = d.y.data();
-  const double* const radius = d.radius.data();
-  const double* const vx = d.vx.data();
-  const double* const vy = d.vy.data();
-  const double* const omega = d.omega.data();
-  const double* const vvx = in.vx_viscous;
-  const double* const vvy = in.vy_viscous;
+  const PassInputs a(d, in);
   const std::int32_t* const row_start = pairs.row_start.data();
   const std::int32_t* const pair_j = pairs.j.data();
   const int range_begin = row_start[first], range_end = row_start[end];
   int next_closed = range_begin, next_opened = range_end;
-  [[maybe_unused]] simd::PairBlock kernel{};
-  if constexpr (How == Sweep::step_simd) {
-    thread_local KernelScratch scratch;
-    kernel = scratch.view(d, pairs, in, range_end - range_begin);
-    simd::pair_law(kernel, k, Periodic, l1, l2, range_begin, range_end);
-  }
+  const simd::PairBlock kernel = run_kernel<How>(d, pairs, in, a, range_begin, range_end);
   for (int i = first; i < end; ++i) {
-    const double xi = x[i], yi = y[i], ri = radius[i];
-    const double vxi = vx[i], vyi = vy[i], omega_i = omega[i];
-    const double vvxi = vvx[i], vvyi = vvy[i];
+    const RowDisk di(a, i);
     // The column part of i's sums (pairs where i is j) is complete: those rows came first.
     RowSums row{d.fx[i], d.fy[i], d.fvx[i], d.fvy[i], d.torque[i]};
     const int row_end = row_start[i + 1];
     for (int p = row_start[i]; p < row_end; ++p) {
       const int j = pair_j[p];
-      const auto separation = [&](double& dx, double& dy) {
-        dx = x[j] - xi;
-        dy = y[j] - yi;
-        if constexpr (Periodic) {
-          dx = minimum_image(dx, l1, half_l1);
-          dy = minimum_image(dy, l2, half_l2);
-        }
-      };
-      double dx, dy, rj;
-      bool closed, was_closed;
-      if constexpr (How == Sweep::step_simd) {
-        const std::uint8_t flags = kernel.closed[p - range_begin];
-        closed = (flags & simd::closed_now) != 0;
-        was_closed = (flags & simd::was_closed) != 0;
-      } else {
-        separation(dx, dy);
-        rj = radius[j];
-        const double reach = ri + rj;
-        closed = !(dx * dx + dy * dy >= reach * reach);
-        was_closed = pairs.f_n[p] > 0.0;
-      }
-      if (!closed) {
-        if (!was_closed) {  // open before and after: adds nothing
-          if constexpr (Gathering) {
-            if (pairs.slotted[p]) pairs.force[p] = PairArrays::Force{};
-          }
-          continue;
-        }
-        // Opened during the step: the tangential state is dropped (SPEC §1.1), and the closing
-        // half kick keeps the share of the viscous force of the part of the step it was closed.
-        if constexpr (How == Sweep::step_simd) {
-          separation(dx, dy);
-          rj = radius[j];
-        }
-        double share = 0.0;
-        if (dt > 0.0) {
-          const ContactFrame f = disk_disk_frame(dx, dy, ri, rj);
-          const double affine_x = Periodic ? k.rate_t1 * dx : 0.0;
-          const double affine_y = Periodic ? k.rate_t2 * dy : 0.0;
-          const double h_rate = deflection_rate(f, vx[j] - vxi + affine_x, vy[j] - vyi + affine_y);
-          share = viscous_share_opening(f.h, h_rate, dt);
-        }
-        const PairArrays::Force out{
-            0.0, 0.0, share * pairs.viscous_x[p], share * pairs.viscous_y[p], 0.0, 0.0};
-        pairs.delta_t[p] = 0.0;
-        pairs.f_n[p] = 0.0;
-        pairs.active[--next_opened] = p;
-        add_pair<Gathering>(d, pairs, p, j, out, row);
-        continue;
-      }
-      pairs.active[next_closed++] = p;
-      if constexpr (How == Sweep::step_simd) {
-        dx = pairs.lx[p];
-        dy = pairs.ly[p];
-      }
-      const PairArrays::Force f = [&]() -> PairArrays::Force {
-        if constexpr (How == Sweep::step_simd) {
-          const int s = p - range_begin;
-          return {kernel.fx[s],  kernel.fy[s],       kernel.fvx[s],
-                  kernel.fvy[s], kernel.torque_i[s], kernel.torque_j[s]};
-        } else {
-          const auto keep_state = [&](double delta_t, double f_n, double nx, double ny) {
-            pairs.delta_t[p] = delta_t;
-            pairs.f_n[p] = f_n;
-            pairs.nx[p] = nx;
-            pairs.ny[p] = ny;
-            pairs.lx[p] = dx;
-            pairs.ly[p] = dy;
-          };
-          const ClosedPair<double> c = closed_pair_law<Periodic>(
-              k, dx, dy, ri, rj, vxi, vyi, omega_i, vx[j], vy[j], omega[j], vvxi, vvyi, vvx[j],
-              vvy[j], pairs.alpha[p], pairs.delta_t[p], was_closed, keep_state);
-          if constexpr (How == Sweep::evaluate) {
-            pairs.viscous_x[p] = c.fvx;
-            pairs.viscous_y[p] = c.fvy;
-          }
-          return {c.fx, c.fy, c.fvx, c.fvy, c.torque_i, c.torque_j};
-        }
-      }();
-      add_pair<Gathering>(d, pairs, p, j, f, row);
+      PairForce f;
+      double dx, dy;
+      const Outcome o = pair_force<Periodic, How>(pairs, p, j, di, a, kernel, range_begin,
+                                                  next_closed, next_opened, f, dx, dy);
+      if (o == Outcome::open) continue;
+      add_pair<Crossing>(d, pairs, p, j, f, row);
+      if (o == Outcome::opened) continue;
       sums.sigma[0] += f.fx * dx;
       sums.sigma[1] += f.fx * dy;
       sums.sigma[2] += f.fy * dx;
@@ -249,73 +296,115 @@ template <bool Gathering, bool Periodic, Sweep How>
   block_sums = sums;
 }
 
-// The sweep of a state's evaluation (rare) out of line, so that GCC inlines the sweeps of the
-// time step into the pass (fewer instructions per block).
-template <bool Gathering, bool Periodic>
-[[gnu::noinline]] void pair_forces_evaluate(DiskArrays& d, PairArrays& pairs, const ForceInputs& in,
-                                            int b, int first, int end, BlockSums& sums) {
-  pair_forces<Gathering, Periodic, Sweep::evaluate>(d, pairs, in, b, first, end, sums);
+// The mirrors of `part` (pairs whose i lies in an earlier part), added to their disk j only,
+// before the part's own rows: these pairs have the smallest partners of j's sum. The listed
+// pair adds the stress.
+template <bool Periodic, Sweep How>
+[[gnu::always_inline]] inline void mirror_forces(DiskArrays& d, MirrorPairs& m,
+                                                 const ForceInputs& in, int part) {
+  const int begin = m.part_start[part], end = m.part_start[part + 1];
+  int next_closed = begin, next_opened = end;
+  if (begin < end) {
+    const PassInputs a(d, in);
+    const simd::PairBlock kernel = run_kernel<How>(d, m, in, a, begin, end);
+    for (int p = begin; p < end; ++p) {
+      const RowDisk di(a, m.i[p]);
+      const int j = m.j[p];
+      PairForce f;
+      double dx, dy;
+      const Outcome o = pair_force<Periodic, How>(m, p, j, di, a, kernel, begin, next_closed,
+                                                  next_opened, f, dx, dy);
+      if (o != Outcome::open) add_to_j(d, j, f);
+    }
+  }
+  m.part_closed[part] = next_closed - begin;
+  m.part_opened[part] = end - next_opened;
 }
 
-// Viscous force only, at the velocities of in, over the closed pairs listed by pair_forces
-// (whose frame it stored); pairs that opened during the step drop their share.
-template <bool Gathering, bool Periodic>
-[[gnu::always_inline]] inline void pair_viscous(DiskArrays& d, PairArrays& pairs,
-                                                const ForceInputs& in, int b, int first, int end,
-                                                BlockSums& sums) {
+// The sweeps of a state's evaluation (rare) out of line, so that GCC inlines the sweeps of the
+// time step into the pass (fewer instructions per block).
+template <bool Crossing, bool Periodic>
+[[gnu::noinline]] void pair_forces_evaluate(DiskArrays& d, PairArrays& pairs, const ForceInputs& in,
+                                            int b, int first, int end, BlockSums& sums) {
+  pair_forces<Crossing, Periodic, Sweep::evaluate>(d, pairs, in, b, first, end, sums);
+}
+template <bool Periodic>
+[[gnu::noinline]] void mirror_forces_evaluate(DiskArrays& d, MirrorPairs& m, const ForceInputs& in,
+                                              int part) {
+  mirror_forces<Periodic, Sweep::evaluate>(d, m, in, part);
+}
+
+// Viscous force only, at the velocities of in, of the closed pairs of s listed in s.active
+// [closed_begin, closed_end) by the force pass (whose frame it stored): stored in the pair and
+// handed to add(p, i, j, fvx, fvy, dx, dy) in that order. The opened pairs listed in
+// [opened_begin, opened_end) drop their share.
+template <bool Periodic, class Add>
+[[gnu::always_inline]] inline void viscous_sweep(PairState& s, const ForceInputs& in,
+                                                 int closed_begin, int closed_end, int opened_begin,
+                                                 int opened_end, Add add) {
   const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
   const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
   const double* const vvx = in.vx_viscous;
   const double* const vvy = in.vy_viscous;
-  double* const fvx_sum = d.fvx.data();
-  double* const fvy_sum = d.fvy.data();
-  const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
-  for (int k = range_end - pairs.block_opened[b]; k < range_end; ++k) {
-    const int p = pairs.active[k];
-    pairs.viscous_x[p] = pairs.viscous_y[p] = 0.0;
-    if constexpr (Gathering) {
-      if (pairs.slotted[p]) pairs.force[p].fvx = pairs.force[p].fvy = 0.0;
-    }
+  for (int k = opened_begin; k < opened_end; ++k) {
+    const int p = s.active[k];
+    s.viscous_x[p] = s.viscous_y[p] = 0.0;
   }
-  const int closed_end = range_begin + pairs.block_closed[b];
-  for (int k = range_begin; k < closed_end; ++k) {
-    const int p = pairs.active[k];
-    const int i = pairs.i[p], j = pairs.j[p];
-    const double dx = pairs.lx[p], dy = pairs.ly[p];
+  for (int k = closed_begin; k < closed_end; ++k) {
+    const int p = s.active[k];
+    const int i = s.i[p], j = s.j[p];
+    const double dx = s.lx[p], dy = s.ly[p];
     ContactFrame f{};
-    f.nx = pairs.nx[p];
-    f.ny = pairs.ny[p];
+    f.nx = s.nx[p];
+    f.ny = s.ny[p];
     const double affine_vx = Periodic ? rate_v1 * dx : 0.0;
     const double affine_vy = Periodic ? rate_v2 * dy : 0.0;
     const double h_rate =
         deflection_rate(f, vvx[j] - vvx[i] + affine_vx, vvy[j] - vvy[i] + affine_vy);
-    const double f_v = pairs.alpha[p] * h_rate;  // as contact_force() computes it
+    const double f_v = s.alpha[p] * h_rate;  // as contact_force() computes it
     const double fvx = f_v * f.nx, fvy = f_v * f.ny;
-    pairs.viscous_x[p] = fvx;
-    pairs.viscous_y[p] = fvy;
-    sums.sigma_viscous[0] += fvx * dx;
-    sums.sigma_viscous[1] += fvy * dy;
-    // Rows in ascending i: j's sum gets its column part, i's its row part, in order.
-    if constexpr (Gathering) {
-      if (pairs.slotted[p]) {
-        pairs.force[p].fvx = fvx;
-        pairs.force[p].fvy = fvy;
-      }
-      if (!pairs.gathered[j]) {
-        fvx_sum[j] += fvx;
-        fvy_sum[j] += fvy;
-      }
-      if (!pairs.gathered[i]) {
-        fvx_sum[i] -= fvx;
-        fvy_sum[i] -= fvy;
-      }
-    } else {
-      fvx_sum[j] += fvx;
-      fvy_sum[j] += fvy;
-      fvx_sum[i] -= fvx;
-      fvy_sum[i] -= fvy;
-    }
+    s.viscous_x[p] = fvx;
+    s.viscous_y[p] = fvy;
+    add(p, i, j, fvx, fvy, dx, dy);
   }
+}
+
+// The viscous forces of block b's pairs (rows of the disks [first, end)).
+template <bool Crossing, bool Periodic>
+[[gnu::always_inline]] inline void pair_viscous(DiskArrays& d, PairArrays& pairs,
+                                                const ForceInputs& in, int b, int first, int end,
+                                                BlockSums& sums) {
+  double* const fvx_sum = d.fvx.data();
+  double* const fvy_sum = d.fvy.data();
+  const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
+  viscous_sweep<Periodic>(pairs, in, range_begin, range_begin + pairs.block_closed[b],
+                          range_end - pairs.block_opened[b], range_end,
+                          [&](int p, int i, int j, double fvx, double fvy, double dx, double dy) {
+                            sums.sigma_viscous[0] += fvx * dx;
+                            sums.sigma_viscous[1] += fvy * dy;
+                            // Rows in ascending i: j's sum gets its column part, i's its row part,
+                            // in order.
+                            if (!Crossing || !pairs.crossing[p]) {
+                              fvx_sum[j] += fvx;
+                              fvy_sum[j] += fvy;
+                            }
+                            fvx_sum[i] -= fvx;
+                            fvy_sum[i] -= fvy;
+                          });
+}
+
+// The same for the mirrors of `part`, to their disk j only (before the part's rows).
+template <bool Periodic>
+[[gnu::always_inline]] inline void mirror_viscous(DiskArrays& d, MirrorPairs& m,
+                                                  const ForceInputs& in, int part) {
+  double* const fvx_sum = d.fvx.data();
+  double* const fvy_sum = d.fvy.data();
+  const int begin = m.part_start[part], end = m.part_start[part + 1];
+  viscous_sweep<Periodic>(m, in, begin, begin + m.part_closed[part], end - m.part_opened[part], end,
+                          [&](int, int, int j, double fvx, double fvy, double, double) {
+                            fvx_sum[j] += fvx;
+                            fvy_sum[j] += fvy;
+                          });
 }
 
 // The disk's forces once its pair sums are complete: walls, then the external force, then
@@ -338,9 +427,9 @@ template <bool Gathering, bool Periodic>
   d.torque[i] = s.torque;
   if (in.kick) {
     const double half = 0.5 * in.dt;
-    d.vx[i] += half * (s.fx + s.fvx) * d.inv_mass[i];
-    d.vy[i] += half * (s.fy + s.fvy) * d.inv_mass[i];
-    d.omega[i] += half * s.torque * d.inv_inertia[i];
+    d.vx[i] = in.vx[i] + half * (s.fx + s.fvx) * d.inv_mass[i];  // from the mid-step ones
+    d.vy[i] = in.vy[i] + half * (s.fy + s.fvy) * d.inv_mass[i];
+    d.omega[i] = in.omega[i] + half * s.torque * d.inv_inertia[i];
     // The viscous pass that follows adds the viscous forces of the final velocities into
     // these (compute_viscous_forces).
     d.fvx[i] = 0.0;
@@ -348,18 +437,18 @@ template <bool Gathering, bool Periodic>
   }
 }
 
-// Calls f.operator()<Gathering, Periodic>() with the two flags as compile-time constants (the
+// Calls f.operator()<Crossing, Periodic>() with the two flags as compile-time constants (the
 // pair loops are specialised on them).
 template <class F>
-void with_flags(bool gathering, bool periodic, F f) {
-  const auto on_periodic = [&]<bool Gathering>() {
+void with_flags(bool crossing, bool periodic, F f) {
+  const auto on_periodic = [&]<bool Crossing>() {
     if (periodic) {
-      f.template operator()<Gathering, true>();
+      f.template operator()<Crossing, true>();
     } else {
-      f.template operator()<Gathering, false>();
+      f.template operator()<Crossing, false>();
     }
   };
-  if (gathering) {
+  if (crossing) {
     on_periodic.template operator()<true>();
   } else {
     on_periodic.template operator()<false>();
@@ -399,62 +488,6 @@ bool set_simd_pairs(bool enabled) {
   return simd_pairs();
 }
 
-std::vector<std::int32_t> even_parts(std::size_t n, int team) {
-  const long long nb = block_count(n);
-  std::vector<std::int32_t> part_block(team + 1);
-  for (int k = 0; k <= team; ++k) part_block[k] = static_cast<std::int32_t>(nb * k / team);
-  return part_block;
-}
-
-bool valid_parts(const std::vector<std::int32_t>& part_block, std::size_t n, int team) {
-  if (static_cast<int>(part_block.size()) != team + 1 || part_block.front() != 0 ||
-      part_block.back() != block_count(n)) {
-    return false;
-  }
-  for (int k = 0; k < team; ++k)
-    if (part_block[k + 1] <= part_block[k]) return false;
-  return true;
-}
-
-std::vector<std::int32_t> balanced_parts(const std::vector<std::int32_t>& part_block,
-                                         const std::vector<double>& busy, double tolerance) {
-  const int team = static_cast<int>(part_block.size()) - 1;
-  if (team < 2 || static_cast<int>(busy.size()) != team) return part_block;
-  double mean = 0.0, worst = 0.0, speed_sum = 0.0;
-  std::vector<double> speed(team);
-  for (int k = 0; k < team; ++k) {
-    if (!(busy[k] > 0.0)) return part_block;
-    mean += busy[k] / team;
-    worst = std::max(worst, busy[k]);
-    speed[k] = (part_block[k + 1] - part_block[k]) / busy[k];
-    speed_sum += speed[k];
-  }
-  if (worst <= (1.0 + tolerance) * mean) return part_block;
-  // Each part moves half way towards the size its thread's speed would finish with the others.
-  const double blocks = part_block.back();
-  std::vector<std::int32_t> out = part_block;
-  double target_start = 0.0;
-  for (int k = 1; k < team; ++k) {
-    target_start += blocks * speed[k - 1] / speed_sum;
-    const double moved = part_block[k] + 0.5 * (target_start - part_block[k]);
-    out[k] = static_cast<std::int32_t>(std::lround(moved));
-  }
-  for (int k = 1; k < team; ++k)  // at least one block per part
-    out[k] = std::clamp(out[k], out[k - 1] + 1, part_block.back() - (team - k));
-  return out;
-}
-
-void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t>& part_block,
-                bool periodic) {
-  plan_team(pairs, static_cast<int>(n), part_block, !periodic);
-}
-
-std::array<int, 2> part_disks(const PairArrays& pairs, std::size_t n, int part) {
-  const int end = static_cast<int>(n);
-  return {std::min(end, pairs.part_block[part] * block_size),
-          std::min(end, pairs.part_block[part + 1] * block_size)};
-}
-
 void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks) {
   const int nb = block_count(n);
   blocks.resize(2 * static_cast<std::size_t>(nb));
@@ -478,46 +511,67 @@ void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays
   };
   // The kernel in time steps only (Sweep).
   const Sweep how = !in.kick ? Sweep::evaluate : simd_pairs() ? Sweep::step_simd : Sweep::step;
-  const auto rows = [&](int b, int first, int end, BlockSums& sums) {
-    with_flags(pairs.block_slotted[b], in.periodic, [&]<bool Gathering, bool Periodic>() {
+  const auto mirrors = [&](int part) {
+    with_flags(false, in.periodic, [&]<bool, bool Periodic>() {
       switch (how) {
         case Sweep::evaluate:
-          pair_forces_evaluate<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
+          mirror_forces_evaluate<Periodic>(disks, pairs.mirrors, in, part);
           break;
         case Sweep::step:
-          pair_forces<Gathering, Periodic, Sweep::step>(disks, pairs, in, b, first, end, sums);
+          mirror_forces<Periodic, Sweep::step>(disks, pairs.mirrors, in, part);
           break;
         case Sweep::step_simd:
-          pair_forces<Gathering, Periodic, Sweep::step_simd>(disks, pairs, in, b, first, end, sums);
+          mirror_forces<Periodic, Sweep::step_simd>(disks, pairs.mirrors, in, part);
           break;
       }
     });
   };
-  const auto finish = [&](int i, bool gathered, BlockSums& sums) {
-    const RowSums s =
-        gathered ? gather(pairs, i)
-                 : RowSums{disks.fx[i], disks.fy[i], disks.fvx[i], disks.fvy[i], disks.torque[i]};
+  const auto rows = [&](int b, int first, int end, BlockSums& sums) {
+    with_flags(
+        pairs.block_crossing[b],
+        in.periodic, [&]<bool Crossing, bool Periodic>() __attribute__((noinline)) {
+          switch (how) {
+            case Sweep::evaluate:
+              pair_forces_evaluate<Crossing, Periodic>(disks, pairs, in, b, first, end, sums);
+              break;
+            case Sweep::step:
+              pair_forces<Crossing, Periodic, Sweep::step>(disks, pairs, in, b, first, end, sums);
+              break;
+            case Sweep::step_simd:
+              pair_forces<Crossing, Periodic, Sweep::step_simd>(disks, pairs, in, b, first, end,
+                                                                sums);
+              break;
+          }
+        });
+  };
+  const auto finish = [&](int i, BlockSums& sums) {
+    const RowSums s{disks.fx[i], disks.fy[i], disks.fvx[i], disks.fvy[i], disks.torque[i]};
     finish_disk(disks, in, cell, i, false, s, sums);
   };
-  run_part(member, disks, pairs, blocks, clear, rows, finish);
+  run_part(member, disks, pairs, blocks, clear, mirrors, rows, true, finish);
 }
 
 void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
                          const ForceInputs& in, std::vector<BlockSums>& blocks) {
   const Cell cell = cell_of(in);
   const auto clear = [](int, int) {};  // the force pass with the kick left zeros
-  const auto rows = [&](int b, int first, int end, BlockSums& sums) {
-    with_flags(pairs.block_slotted[b], in.periodic, [&]<bool Gathering, bool Periodic>() {
-      pair_viscous<Gathering, Periodic>(disks, pairs, in, b, first, end, sums);
+  const auto mirrors = [&](int part) {
+    with_flags(false, in.periodic, [&]<bool, bool Periodic>() {
+      mirror_viscous<Periodic>(disks, pairs.mirrors, in, part);
     });
   };
-  const auto finish = [&](int i, bool gathered, BlockSums& sums) {
-    RowSums s{0.0, 0.0, disks.fvx[i], disks.fvy[i], 0.0};
-    if (gathered) s = gather(pairs, i);
-    if (in.periodic && !gathered) return;  // the sums are complete already
-    finish_disk(disks, in, cell, i, true, s, sums);
+  const auto rows = [&](int b, int first, int end, BlockSums& sums) {
+    with_flags(
+        pairs.block_crossing[b],
+        in.periodic, [&]<bool Crossing, bool Periodic>() __attribute__((noinline)) {
+          pair_viscous<Crossing, Periodic>(disks, pairs, in, b, first, end, sums);
+        });
   };
-  run_part(member, disks, pairs, blocks, clear, rows, finish);
+  const auto finish = [&](int i, BlockSums& sums) {
+    finish_disk(disks, in, cell, i, true, RowSums{0.0, 0.0, disks.fvx[i], disks.fvy[i], 0.0}, sums);
+  };
+  // Periodic cells: the sums are complete after the rows; walls add their viscous forces.
+  run_part(member, disks, pairs, blocks, clear, mirrors, rows, !in.periodic, finish);
 }
 
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
@@ -527,7 +581,7 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
   on_team(
       in.parallel ? omp_get_max_threads() : 1, barrier,
       [&](int team) {
-        if (pairs.team != team) plan_parts(pairs, n, even_parts(n, team), in.periodic);
+        if (pairs.team != team) plan_parts(pairs, n, even_parts(n, team));
         size_passes(n, pairs, blocks);
       },
       [&](const TeamMember& member) { contact_forces_part(member, disks, pairs, in, blocks); });

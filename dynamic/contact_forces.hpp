@@ -1,15 +1,16 @@
 #pragma once
 // Contact forces of one step from the common contact law (common/contact_law.hpp, SPEC §1.1).
 // Parallel over fixed blocks of disks; every disk sums its pairs in ascending partner order
-// (added as the rows are swept, or gathered from per-pair slots after a barrier for the few
-// disks that have partners in another thread's part): the result is independent of the thread
-// count and of when the Verlet list was last rebuilt (open pairs contribute nothing).
+// (added as the rows are swept; a pair whose disks lie in two threads' parts is computed by
+// both, each adding to its own disk: PairArrays::mirrors): the result is independent of the
+// thread count and of when the Verlet list was last rebuilt (open pairs contribute nothing).
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "common/material.hpp"
 #include "state.hpp"
+#include "parts.hpp"
 #include "team.hpp"
 
 namespace granstab::dynamic {
@@ -24,6 +25,10 @@ struct ForceInputs {
   // periodic cells, affine strain rates dL_a/dt / L_a; walls, velocities of the mobile walls.
   std::array<double, 2> rate_tangential{0.0, 0.0};
   std::array<double, 2> rate_viscous{0.0, 0.0};
+  // Disk velocities of the contact law (in a time step, those at t + dt/2: DiskArrays::vhx ..).
+  const double* vx = nullptr;
+  const double* vy = nullptr;
+  const double* omega = nullptr;
   const double* vx_viscous = nullptr;  // disk velocities for the viscous force
   const double* vy_viscous = nullptr;
   // Run the per-block loops on the OpenMP team (false: on the calling thread; small samples,
@@ -41,38 +46,22 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
                                  std::vector<BlockSums>& blocks);
 
 // --- the passes of a time step, run by a team inside one parallel region (engine.cpp) -------
-// The team's parts: part k holds the blocks [part_block[k], part_block[k + 1]) (blocks of
-// block_size disks), whatever the pass, so that each thread keeps its disks' data in its core's
-// cache. plan_parts finds the gathered disks of a split (after every list rebuild, for a new
-// team size and when the split moves); size_passes sizes the per-block scratch. No sum depends
-// on the split (docs/dynamic.md, "Determinism").
-std::vector<std::int32_t> even_parts(std::size_t n, int team);  // nb k / team
-// Whether part_block splits the blocks of n disks into `team` non-empty parts.
-bool valid_parts(const std::vector<std::int32_t>& part_block, std::size_t n, int team);
-// The split after a measurement of busy[k] seconds of work (waits excluded) on part k: unchanged
-// when the slowest part took at most (1 + tolerance) times the mean; otherwise every boundary
-// moves half way towards the split at which the measured speeds (blocks per second) would
-// finish together, each part keeping at least one block.
-std::vector<std::int32_t> balanced_parts(const std::vector<std::int32_t>& part_block,
-                                         const std::vector<double>& busy, double tolerance);
-void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t>& part_block,
-                bool periodic);
-std::array<int, 2> part_disks(const PairArrays& pairs, std::size_t n, int part);  // [first, end)
+// Each thread runs its part (parts.hpp): no sum depends on the split (docs/dynamic.md,
+// "Determinism"). size_passes sizes the per-block scratch.
 void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& blocks);
 
 // The force pass of the member's part (pairs.team must be member.threads): updates delta_t,
 // writes the per-disk sums and the per-block sums into blocks; with in.kick the per-disk sums
 // must be zero on entry (kick_drift leaves them so), the disks get their second half kick as
-// soon as their sums are complete, and fvx, fvy are left zero (viscous_forces_part adds into
-// them). Contains a barrier of the team when some block is gathered. After a barrier of the
-// team, sum_blocks gives the sums of the sample.
+// soon as their sums are complete (from in.vx ..: the mid-step velocities, which the pass reads
+// and does not write), and fvx, fvy are left zero (viscous_forces_part adds into them). No
+// barrier inside: after a barrier of the team, sum_blocks gives the sums of the sample.
 void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
                          const ForceInputs& in, std::vector<BlockSums>& blocks);
 
 // The viscous forces alone, for the velocities in.vx_viscous / in.rate_viscous, with the
 // contact geometry of the last contact_forces_part, which must have been run with in.kick
-// (fills disks.fvx, fvy). Contains a barrier when some block is gathered; in a periodic cell
-// the block sums are complete when it returns (walls: after one more barrier).
+// (fills disks.fvx, fvy). No barrier inside: the block sums are complete after the next one.
 void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
                          const ForceInputs& in, std::vector<BlockSums>& blocks);
 

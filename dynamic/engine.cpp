@@ -85,8 +85,8 @@ Engine::Engine(const Configuration& config, const EngineOptions& options)
                         cell_.length[1]);
     }
   }
-  for (auto* v : {&disks_.vpx, &disks_.vpy, &disks_.fx, &disks_.fy, &disks_.torque, &disks_.fvx,
-                  &disks_.fvy}) {
+  for (auto* v : {&disks_.vhx, &disks_.vhy, &disks_.omega_h, &disks_.vpx, &disks_.vpy, &disks_.fx,
+                  &disks_.fy, &disks_.torque, &disks_.fvx, &disks_.fvy}) {
     v->assign(n, 0.0);
   }
   for (auto& w : disks_.wall_delta_t) w.assign(n, 0.0);
@@ -139,6 +139,10 @@ ForceInputs Engine::force_inputs(const dynamic::CellState& cell, double dt_tange
     in.rate_tangential[a] = cell.length_rate[a] * scale;
     in.rate_viscous[a] = (mid_step ? cell.rate_predicted[a] : cell.length_rate[a]) * scale;
   }
+  const bool apart = mid_step && mid_step_apart();
+  in.vx = apart ? disks_.vhx.data() : disks_.vx.data();
+  in.vy = apart ? disks_.vhy.data() : disks_.vy.data();
+  in.omega = apart ? disks_.omega_h.data() : disks_.omega.data();
   in.vx_viscous = mid_step ? disks_.vpx.data() : disks_.vx.data();
   in.vy_viscous = mid_step ? disks_.vpy.data() : disks_.vy.data();
   in.parallel = parallel();
@@ -165,9 +169,10 @@ void Engine::step() { run(1); }
 //
 // The whole run is one parallel region (docs/dynamic.md, "Performance"): each thread drifts,
 // sweeps and kicks the disks of its own part in every pass of every step, and the team meets
-// at the barriers the data flow needs: after the drift (partners' positions, the displacement
-// maximum), inside the passes when blocks are gathered, after the force pass (the stress sums
-// the cell's control needs, the final velocities the viscous refresh reads). The cell's state
+// at the barriers the data flow needs: after the drift (partners' positions and mid-step
+// velocities, the displacement maximum), after the force pass (the stress sums the cell's
+// control needs, the final velocities the viscous refresh reads) and after the viscous refresh
+// (its sums). The cell's state
 // is a few numbers: every thread computes it alike from the same sums (same bits), so no
 // thread waits for another to do it.
 void Engine::run(std::uint64_t steps) {
@@ -180,7 +185,7 @@ void Engine::run(std::uint64_t steps) {
                          : dynamic::even_parts(n, team);
       pairs_.team = 0;
     }
-    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, part_blocks_, cell_.periodic());
+    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, part_blocks_);
     dynamic::size_passes(n, pairs_, blocks_);
     viscous_blocks_.resize(blocks_.size());
     team_slots_.resize(team);
@@ -224,7 +229,7 @@ void Engine::advance(const dynamic::TeamMember& team_member, std::uint64_t steps
     if (colocated < colocated_steps || s == steps) continue;
     colocated = 0;
     ++hand_backs;
-    member.sync();  // the others finish the step (their gathered disks) before thread 0 takes over
+    member.sync();  // the others finish the step before thread 0 takes over
     if (member.thread == 0) {
       const std::uint64_t alone_steps = options_.alone_steps > 0
                                             ? options_.alone_steps
@@ -261,7 +266,8 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   const bool team = member.threads > 1;
   if (team) team_slots_[member.thread].cpu = sched_getcpu();
   const std::array<double, 2> lambda = dynamic::kick_drift_cell(cell, stage_, dt_);
-  const double d2 = dynamic::kick_drift_disks(disks_, cell, lambda, dt_, neighbours_, first, end);
+  const double d2 = dynamic::kick_drift_disks(disks_, cell, lambda, dt_, neighbours_, first, end,
+                                              mid_step_apart());
   team_slots_[member.thread].max_d2 = d2;
   if (balance) {
     member.clock->arrive();  // its work since the last balance, up to this barrier
@@ -286,7 +292,7 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   if (local.rebuild_test(cell, local.max_d2)) {
     if (member.thread == 0) {
       neighbours_.rebuild(disks_, cell, pairs_, material_);
-      dynamic::plan_parts(pairs_, n, part_blocks_, cell.periodic());
+      dynamic::plan_parts(pairs_, n, part_blocks_);
     }
     member.sync();
     local.rebuild_test = neighbours_.rebuild_test();
@@ -303,7 +309,7 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   if (material_.zeta != 0.0) {
     dynamic::viscous_forces_part(member, disks_, pairs_, force_inputs(cell, 0.0, false),
                                  viscous_blocks_);
-    if (!cell.periodic()) member.sync();  // the gathered disks' wall forces
+    member.sync();  // the viscous block sums
     const BlockSums v = dynamic::sum_blocks(viscous_blocks_, n);
     sums.sigma_viscous = v.sigma_viscous;
     sums.wall_force_viscous = v.wall_force_viscous;
@@ -324,7 +330,7 @@ void Engine::balance_parts() {
   if (parts == part_blocks_) return;
   part_blocks_ = std::move(parts);
   ++part_moves_;
-  dynamic::plan_parts(pairs_, disks_.size(), part_blocks_, cell_.periodic());
+  dynamic::plan_parts(pairs_, disks_.size(), part_blocks_);
 }
 
 void Engine::set_dt(double dt) {

@@ -128,6 +128,10 @@ class Engine {
 
  private:
   bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
+  // Whether a step keeps the mid-step velocities apart (DiskArrays::vhx ..): on a team split into
+  // parts, whose halo pairs read another part's while its thread kicks them. One part kicks over
+  // them, which saves the traffic of three more arrays (~6 % at N = 5600).
+  bool mid_step_apart() const { return pairs_.team > 1; }
   void evaluate_state();  // forces and cell acceleration of the current state (no increment)
   bool apply_stage(const Stage& stage);
   void control_cell() { control_cell(cell_, sums_); }

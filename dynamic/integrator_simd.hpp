@@ -8,7 +8,10 @@
 namespace granstab::dynamic::simd {
 
 struct DriftBlock {
-  double *x, *y, *vx, *vy, *vpx, *vpy, *omega, *theta;
+  double *x, *y;
+  const double *vx, *vy, *omega;  // at t
+  double *vhx, *vhy, *omega_h;    // at t + dt/2 (written; may be vx, vy, omega)
+  double *vpx, *vpy, *theta;
   double *fx, *fy, *fvx, *fvy, *torque;  // read, then cleared
   const double *inv_mass, *inv_inertia, *ref_x, *ref_y;
 };

@@ -57,8 +57,7 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
   pairs.f_n.assign(m, 0.0);
   pairs.viscous_x.assign(m, 0.0);
   pairs.viscous_y.assign(m, 0.0);
-  pairs.force.assign(m, PairArrays::Force{});
-  pairs.team = 0;  // the gathered blocks depend on the list
+  pairs.team = 0;  // the crossing pairs and their mirrors depend on the list
   if (had_list) {
     for (std::size_t i = 0; i < n; ++i) {
       int q = old_row_start_[i];
@@ -76,17 +75,6 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
       }
     }
   }
-
-  // Transposed incidence: pairs where each disk is j, in ascending i (stable counting sort).
-  pairs.column_start.assign(n + 1, 0);
-  for (std::size_t p = 0; p < m; ++p) ++pairs.column_start[pairs.j[p] + 1];
-  for (std::size_t i = 0; i < n; ++i) pairs.column_start[i + 1] += pairs.column_start[i];
-  pairs.column_pair.resize(m);
-  old_row_start_.assign(pairs.column_start.begin(), pairs.column_start.end() - 1);  // cursor
-  for (std::size_t p = 0; p < m; ++p) {
-    pairs.column_pair[old_row_start_[pairs.j[p]]++] = static_cast<std::int32_t>(p);
-  }
-  old_row_start_.clear();
 
   pairs.alpha.resize(m);
   for (std::size_t p = 0; p < m; ++p) {

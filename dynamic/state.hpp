@@ -19,6 +19,10 @@ struct DiskArrays {
   // Velocities predicted at the end of the step, used only by the viscous force (which depends
   // on the velocity it is meant to change).
   std::vector<double> vpx, vpy;
+  // Velocities at t + dt/2 in a time step: the drift writes them, the force pass reads them and
+  // its second half kick writes vx, vy, omega from them. So a thread can kick its disks while
+  // another still reads their mid-step velocities (the partners of its halo pairs).
+  std::vector<double> vhx, vhy, omega_h;
   std::vector<double> fx, fy, torque;  // elastic + frictional contact forces + external forces
   std::vector<double> fvx, fvy;        // viscous contact forces (normal, so no torque)
   std::vector<double> ext_fx, ext_fy;  // external forces; empty when none is applied
@@ -29,51 +33,50 @@ struct DiskArrays {
   std::size_t size() const { return x.size(); }
 };
 
-// Pairs of the Verlet list, i < j, sorted by (i, j): CSR rows by i, plus the transposed
-// incidence (for each disk, the pairs where it is j, ascending i). Every disk sums its pair
-// forces in ascending partner order whatever the list holds (see docs/dynamic.md,
-// "Determinism"): the force pass adds each pair's force to both disks as it goes (rows in
-// ascending i do exactly that order), except for the "gathered" disks (below).
-struct PairArrays {
+// The state of a listed pair that the force pass carries from step to step, and the frame of
+// its last pass (F_T of a state is -K_T delta_t): of the listed pairs (PairArrays) and of their
+// mirrors (PairArrays::mirrors), which evolve alike.
+struct PairState {
   std::vector<std::int32_t> i, j;
-  std::vector<std::int32_t> row_start;                  // N + 1
-  std::vector<std::int32_t> column_start, column_pair;  // N + 1, size()
   std::vector<double> alpha, delta_t;
   // Viscous force of i on j of the synchronous state (zero for open pairs): a pair that opens
   // during the next step keeps a share of it for the closing half kick.
   std::vector<double> viscous_x, viscous_y;
-  // Per-pair outputs of a pass, written only for pairs with a gathered disk (`slotted`), whose
-  // sums are taken after the team's barrier through the incidence, in the same order.
-  struct Force {
-    double fx, fy;    // elastic + frictional force of i on j
-    double fvx, fvy;  // viscous force of i on j
-    double torque_i, torque_j;
-  };
-  std::vector<Force> force;
-  // Frame and elastic normal force of the last force pass (F_T of a state is -K_T delta_t).
   std::vector<double> nx, ny, lx, ly, f_n;
-  // Per reduction block: its closed pairs from the start of its pair range in `active`, the
-  // pairs that opened during the step from the end (written by the force pass).
-  std::vector<std::int32_t> active, block_closed, block_opened;
+  // The closed pairs of the last force pass from the start of a range in `active`, the pairs
+  // that opened during the step from its end (per block, or per part for mirrors).
+  std::vector<std::int32_t> active;
+  std::size_t size() const { return i.size(); }
+};
+
+// Pairs of a team's part whose i lies in an earlier part (its "halo"): copies of those listed
+// pairs, with a state of their own, which the part's thread computes again (the same inputs,
+// the same operations, so the same bits as the listed pair) and adds to its disk j only, before
+// its own rows. The listed pair adds to its i only. So no disk gets additions from two threads,
+// and every disk's sums keep their order (docs/dynamic.md, "Determinism").
+struct MirrorPairs : PairState {
+  std::vector<std::int32_t> part_start;  // team + 1: part k's mirrors, in the list's order
+  std::vector<std::int32_t> part_closed, part_opened;  // per part, as PairArrays::block_closed
+};
+
+// Pairs of the Verlet list, i < j, sorted by (i, j): CSR rows by i. Every disk sums its pair
+// forces in ascending partner order whatever the list holds (see docs/dynamic.md,
+// "Determinism"): the force pass adds each pair's force to both disks as it goes (rows in
+// ascending i do exactly that order); across the parts of a team, through the mirrors.
+struct PairArrays : PairState {
+  std::vector<std::int32_t> row_start;  // N + 1
+  // Per reduction block: the number of its closed pairs and of its opened ones in `active`.
+  std::vector<std::int32_t> block_closed, block_opened;
   // Split of the blocks between `team` parts (part k: the blocks from part_block[k] on, each run
-  // by one thread). A disk is gathered when it has a partner in an earlier part: it
-  // would receive forces from two threads. With walls whole blocks are gathered (whole_blocks),
-  // so that a block's disk sums keep their order. team = 0: not planned for this list yet (see
-  // contact_forces.cpp).
+  // by one thread). team = 0: not planned for this list yet (plan_parts, parts.hpp).
   int team = 0;
   // The parts' first blocks and the block count (team + 1 entries): part k holds the blocks
   // [part_block[k], part_block[k + 1]). Even by default; the engine moves the boundaries to
   // balance its threads' work (EngineOptions::balance_steps). The sums do not depend on them.
   std::vector<std::int32_t> part_block;
-  bool any_gathered = false, whole_blocks = false;
-  std::vector<std::uint8_t> gathered;        // per disk
-  std::vector<std::uint8_t> block_gathered;  // per block: whether one of its disks is gathered
-  std::vector<std::uint8_t> slotted;         // per pair: i or j gathered
-  // Per block: whether one of its rows has a slotted pair. Only such blocks sweep their rows
-  // with the checks for slots and gathered partners; the others (all but a few at the part
-  // boundaries) take the plain sweep, which does the same additions.
-  std::vector<std::uint8_t> block_slotted;
-  std::size_t size() const { return i.size(); }
+  std::vector<std::uint8_t> crossing;        // per pair: j in a later part than i
+  std::vector<std::uint8_t> block_crossing;  // per block: one of its rows has a crossing pair
+  MirrorPairs mirrors;
 };
 
 struct CellState {
@@ -106,5 +109,8 @@ struct BlockSums {
 };
 
 inline constexpr int block_size = 64;  // disks per reduction block (fixed, thread-independent)
+inline int block_count(std::size_t n) {
+  return static_cast<int>((n + block_size - 1) / block_size);
+}
 
 }  // namespace granstab::dynamic

@@ -30,7 +30,7 @@ void wall_forces(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, 
     const bool was_closed = d.wall_closed[w][i] != 0;
     double wvx, wvy;
     wall_velocity(walls[w], in.rate_tangential, wvx, wvy);
-    const double dvx = wvx - d.vx[i], dvy = wvy - d.vy[i];  // mid-step, wall relative to disk
+    const double dvx = wvx - in.vx[i], dvy = wvy - in.vy[i];  // mid-step, wall relative to disk
     double f_v;
     if (!(f.h > 0.0)) {
       if (viscous_only) continue;
@@ -49,7 +49,7 @@ void wall_forces(DiskArrays& d, const ForceInputs& in, const Cell& cell, int i, 
         f_v = d.alpha_wall[i] * h_rate;  // as contact_force() computes it
         d.wall_f_v[w][i] = f_v;
       } else {
-        const double rate = tangential_rate(f, dvx, dvy, d.omega[i], 0.0);
+        const double rate = tangential_rate(f, dvx, dvy, in.omega[i], 0.0);
         const ContactForce c = apply_law(mat.k_n, mat.k_t, mat.mu_wall, d.alpha_wall[i], f.h,
                                          h_rate, d.wall_delta_t[w][i], in.dt, rate);
         d.wall_delta_t[w][i] = c.delta_t;
