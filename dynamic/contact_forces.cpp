@@ -495,8 +495,8 @@ void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& block
   pairs.block_opened.resize(nb);
 }
 
-BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n) {
-  return add_blocks(blocks, 2 * block_count(n));
+BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n, bool periodic) {
+  return add_blocks(blocks, block_count(n), periodic);
 }
 
 void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
@@ -585,7 +585,7 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const For
         size_passes(n, pairs, blocks);
       },
       [&](const TeamMember& member) { contact_forces_part(member, disks, pairs, in, blocks); });
-  return sum_blocks(blocks, n);
+  return sum_blocks(blocks, n, in.periodic);
 }
 
 }  // namespace granstab::dynamic

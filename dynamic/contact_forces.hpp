@@ -67,7 +67,7 @@ void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays
 
 // The sample's sums of the last pass: the block sums added in block order (the same bits on
 // every thread and for every team size).
-BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n);
+BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n, bool periodic);
 
 // Whether the force pass of a time step runs its distance tests and contact laws in the SIMD
 // kernel (contact_forces_simd.hpp; AVX-512, chosen at run time) rather than in the scalar pair

@@ -301,7 +301,7 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   in.kick = true;  // the disks' second half kick, as each disk's forces are complete
   dynamic::contact_forces_part(member, disks_, pairs_, in, blocks_);
   member.sync();
-  sums = dynamic::sum_blocks(blocks_, n);
+  sums = dynamic::sum_blocks(blocks_, n, cell.periodic());
   control_cell(cell, sums);
   dynamic::kick_cell(cell, stage_, dt_);
   // The viscous forces of the final velocities (zeta = 0: alpha = 0, they are exact zeros,
@@ -310,7 +310,7 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
     dynamic::viscous_forces_part(member, disks_, pairs_, force_inputs(cell, 0.0, false),
                                  viscous_blocks_);
     member.sync();  // the viscous block sums
-    const BlockSums v = dynamic::sum_blocks(viscous_blocks_, n);
+    const BlockSums v = dynamic::sum_blocks(viscous_blocks_, n, cell.periodic());
     sums.sigma_viscous = v.sigma_viscous;
     sums.wall_force_viscous = v.wall_force_viscous;
     control_cell(cell, sums);

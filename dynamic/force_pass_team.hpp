@@ -14,12 +14,17 @@
 namespace granstab::dynamic {
 namespace {
 
-BlockSums add_blocks(const std::vector<BlockSums>& blocks, int count) {
+// The blocks' sums added in block order. In a periodic cell the disks' blocks (from nb on) and
+// the wall forces are zeros (+0), which leave a sum that starts at +0 unchanged: they are not
+// read, which spares each thread the lines the others wrote (cross-core misses, ~230 ns each on
+// the AMD VM; 2 x 176 blocks per step at N = 5600).
+BlockSums add_blocks(const std::vector<BlockSums>& blocks, int nb, bool periodic) {
   BlockSums total;
-  for (int b = 0; b < count; ++b) {
+  for (int b = 0; b < (periodic ? nb : 2 * nb); ++b) {
     for (int k = 0; k < 4; ++k) total.sigma[k] += blocks[b].sigma[k];
+    for (int k = 0; k < 2; ++k) total.sigma_viscous[k] += blocks[b].sigma_viscous[k];
+    if (periodic) continue;
     for (int k = 0; k < 2; ++k) {
-      total.sigma_viscous[k] += blocks[b].sigma_viscous[k];
       total.wall_force[k] += blocks[b].wall_force[k];
       total.wall_force_viscous[k] += blocks[b].wall_force_viscous[k];
     }
