@@ -418,6 +418,8 @@ void Engine::set_material(const Material& material) {
     pairs_.alpha[p] =
         material_.damping_coefficient(disks_.mass[pairs_.i[p]], disks_.mass[pairs_.j[p]]);
   }
+  // The mirrors of the pairs across the parts copy alpha too.
+  if (pairs_.team > 0) dynamic::plan_parts(pairs_, disks_.size(), pairs_.part_block);
   if (new_time_scale) {
     const double m_min = *std::min_element(disks_.mass.begin(), disks_.mass.end());
     time_scale_ = std::sqrt(m_min / material_.k_n);

@@ -86,6 +86,25 @@ TEST(Determinism, OneAndTwoThreadsAgree) {
   expect_identical(run(start, 1, 1500), run(start, 2, 1500));
 }
 
+// A material changed between two runs (the biaxial test after a preparation at mu_prep): the
+// pairs' damping coefficients change, and the mirrors of the pairs across the two threads' parts
+// (PairArrays::mirrors) with them.
+TEST(Determinism, OneAndTwoThreadsAgreeAcrossAMaterialChange) {
+  const Configuration start = gas();
+  const auto run_with_change = [&](int threads) {
+    omp_set_num_threads(threads);
+    Engine e(start, team_options());
+    e.run(700);
+    Material m = start.material;
+    m.zeta = 0.4;
+    m.mu = 0.1;
+    e.set_material(m);
+    e.run(800);
+    return e.configuration();
+  };
+  expect_identical(run_with_change(1), run_with_change(2));
+}
+
 // Below EngineOptions::parallel_min_disks the loops run on the calling thread: same bits as the
 // team (the default threshold, 4096, is above these 400 disks).
 // Two threads that the OS keeps on one CPU (here: bound to the first allowed one) hand the step
