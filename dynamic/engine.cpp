@@ -172,9 +172,8 @@ void Engine::step() { run(1); }
 // at the barriers the data flow needs: after the drift (partners' positions and mid-step
 // velocities, the displacement maximum), after the force pass (the stress sums the cell's
 // control needs, the final velocities the viscous refresh reads) and after the viscous refresh
-// (its sums). The cell's state
-// is a few numbers: every thread computes it alike from the same sums (same bits), so no
-// thread waits for another to do it.
+// (its sums). The cell's state is a few numbers: every thread computes it alike from the same
+// sums (same bits), so no thread waits for another to do it.
 void Engine::run(std::uint64_t steps) {
   if (steps == 0) return;
   const std::size_t n = disks_.size();

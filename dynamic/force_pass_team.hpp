@@ -2,7 +2,7 @@
 // The force pass's run over a team's parts (mirrors, rows, disks, sums), apart from the pair
 // physics.
 // Included by contact_forces.cpp only, in an anonymous namespace: the force pass stays one
-// translation unit, so the compiler inlines the sweeps and gather() into run_part().
+// translation unit, so the compiler inlines the sweeps into run_part().
 #include <omp.h>
 
 #include <algorithm>
