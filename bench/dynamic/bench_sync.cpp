@@ -1,6 +1,6 @@
 // Cost of the engine's synchronisation points on this machine (issue #7, two threads): the time
 // of an empty parallel region (a fork/join, as each pass of the step opens) and of a barrier
-// inside one (as the passes with gathered blocks take), averaged over many. The wait policy
+// inside one (as the engine's team meets three times per step), averaged over many. The wait policy
 // comes from the environment (OMP_WAIT_POLICY), as for the engine.
 //
 //   bench_sync [THREADS] [COUNT]

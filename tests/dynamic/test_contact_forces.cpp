@@ -196,12 +196,12 @@ TEST(ExternalForces, ConstantForceGivesUniformAcceleration) {
 namespace granstab {
 namespace {
 
-// The per-disk sums of the engine's pair passes (forces added as the rows are swept, or
-// gathered from per-pair slots for disks with partners in another thread's part) against a
-// direct sum over the exported contacts with the contact law: F_N = K_N h, F_T = -K_T delta_t,
+// The per-disk sums of the engine's pair passes (forces added as the rows are swept; a pair
+// across two threads' parts added to i by its row and to j by its mirror) against a direct sum
+// over the exported contacts with the contact law: F_N = K_N h, F_T = -K_T delta_t,
 // F_v = alpha dh/dt with the final velocities. Randomly numbered disks, so that with two
-// threads many blocks are gathered; or, with `ordered`, more disks numbered in space, so that
-// most blocks take the plain sweep and only a few near the part boundary check for slots.
+// threads many pairs cross the parts; or, with `ordered`, more disks numbered in space, so that
+// most blocks take the plain sweep and only a few near the part boundary check for crossings.
 void expect_brute_force_sums(int threads, bool ordered = false) {
   const Material material = Material::from_kappa(1e3, 1.0, 0.3, 0.7);
   Configuration c = testing::random_gas(ordered ? 1500 : 300, 0.2, material, 5);
