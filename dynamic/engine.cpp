@@ -55,15 +55,15 @@ Engine::Engine(const Configuration& config, const EngineOptions& options)
   cell_.length_rate = config.cell.length_rate;
   cell_.mass = config.cell.mass;
 
-  disks_.x = in.x;
-  disks_.y = in.y;
-  disks_.vx = in.vx;
-  disks_.vy = in.vy;
-  disks_.omega = in.omega;
-  disks_.theta = in.theta;
-  disks_.radius = in.radius;
-  disks_.mass = in.mass;
-  disks_.inertia = in.inertia;
+  disks_.x.assign(in.x.begin(), in.x.end());
+  disks_.y.assign(in.y.begin(), in.y.end());
+  disks_.vx.assign(in.vx.begin(), in.vx.end());
+  disks_.vy.assign(in.vy.begin(), in.vy.end());
+  disks_.omega.assign(in.omega.begin(), in.omega.end());
+  disks_.theta.assign(in.theta.begin(), in.theta.end());
+  disks_.radius.assign(in.radius.begin(), in.radius.end());
+  disks_.mass.assign(in.mass.begin(), in.mass.end());
+  disks_.inertia.assign(in.inertia.begin(), in.inertia.end());
   disks_.inv_mass.resize(n);
   disks_.inv_inertia.resize(n);
   disks_.alpha_wall.resize(n);
@@ -535,15 +535,15 @@ Configuration Engine::configuration() const {
 
 void Engine::export_to(Configuration& out) const {
   const std::size_t n = disks_.size();
-  out.disks.x = disks_.x;
-  out.disks.y = disks_.y;
-  out.disks.radius = disks_.radius;
-  out.disks.mass = disks_.mass;
-  out.disks.inertia = disks_.inertia;
-  out.disks.vx = disks_.vx;
-  out.disks.vy = disks_.vy;
-  out.disks.omega = disks_.omega;
-  out.disks.theta = disks_.theta;
+  out.disks.x.assign(disks_.x.begin(), disks_.x.end());
+  out.disks.y.assign(disks_.y.begin(), disks_.y.end());
+  out.disks.radius.assign(disks_.radius.begin(), disks_.radius.end());
+  out.disks.mass.assign(disks_.mass.begin(), disks_.mass.end());
+  out.disks.inertia.assign(disks_.inertia.begin(), disks_.inertia.end());
+  out.disks.vx.assign(disks_.vx.begin(), disks_.vx.end());
+  out.disks.vy.assign(disks_.vy.begin(), disks_.vy.end());
+  out.disks.omega.assign(disks_.omega.begin(), disks_.omega.end());
+  out.disks.theta.assign(disks_.theta.begin(), disks_.theta.end());
   out.cell = cell_.cell();
   out.material = material_;
   out.stage = stage_;

@@ -39,8 +39,8 @@ class NeighbourList {
   // last build (squared, in current lengths).
   void set_max_displacement_squared(double d2) { max_displacement2_ = d2; }
   // Reduced positions at the last build (the reference of the displacement check).
-  const std::vector<double>& reference_x() const { return ref_sx_; }
-  const std::vector<double>& reference_y() const { return ref_sy_; }
+  const LineVector<double>& reference_x() const { return ref_sx_; }
+  const LineVector<double>& reference_y() const { return ref_sy_; }
   const std::array<double, 2>& reference_length() const { return ref_length_; }
 
  private:
@@ -49,12 +49,12 @@ class NeighbourList {
   double max_displacement2_ = 0.0;
   std::uint64_t rebuilds_ = 0;
   bool built_ = false;
-  std::vector<double> ref_sx_, ref_sy_;
+  LineVector<double> ref_sx_, ref_sy_;
   std::array<double, 2> ref_length_{1.0, 1.0};
   PairSearch search_;
   PairList found_;
-  std::vector<std::int32_t> old_i_, old_j_, old_row_start_;
-  std::vector<double> old_delta_t_, old_f_n_, old_viscous_x_, old_viscous_y_;
+  LineVector<std::int32_t> old_i_, old_j_, old_row_start_;
+  LineVector<double> old_delta_t_, old_f_n_, old_viscous_x_, old_viscous_y_;
 };
 
 }  // namespace granstab::dynamic

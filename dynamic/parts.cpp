@@ -66,7 +66,7 @@ void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t
   pairs.crossing.assign(m, 0);
   pairs.block_crossing.assign(nb, 0);
   MirrorPairs& mirrors = pairs.mirrors;
-  std::vector<std::int32_t>& start = mirrors.part_start;
+  auto& start = mirrors.part_start;
   start.assign(team + 1, 0);
   for (std::size_t p = 0; p < m; ++p) {
     if (part_of(pairs.i[p]) == part_of(pairs.j[p])) continue;
