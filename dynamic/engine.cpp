@@ -4,6 +4,7 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -162,12 +163,21 @@ void Engine::control_cell(dynamic::CellState& cell, const BlockSums& sums) const
 
 void Engine::step() { run(1); }
 
+namespace {
+constexpr int colocated_steps = 16;
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+}  // namespace
+
 // Velocity Verlet. The first half kick and the drift belong to the integrator; the forces at
 // t + dt need the velocities at t + dt only through the viscous term, which is evaluated with
 // predicted velocities and then refreshed with the final ones so that the cached forces are a
 // function of the synchronous state (docs/dynamic.md).
 //
-// The whole run is one parallel region (docs/dynamic.md, "Performance"): each thread drifts,
+// The whole run is one parallel region (docs/dynamic.md, "Performance"; a timed team that
+// gives its steps to one thread ends it early, below): each thread drifts,
 // sweeps and kicks the disks of its own part in every pass of every step, and the team meets
 // at the barriers the data flow needs: after the drift (partners' positions and mid-step
 // velocities, the displacement maximum), after the force pass (the stress sums the cell's
@@ -175,34 +185,84 @@ void Engine::step() { run(1); }
 // (its sums). The cell's state is a few numbers: every thread computes it alike from the same
 // sums (same bits), so no thread waits for another to do it.
 void Engine::run(std::uint64_t steps) {
-  if (steps == 0) return;
   const std::size_t n = disks_.size();
-  const auto prepare = [&](int team) {
-    if (!dynamic::valid_parts(part_blocks_, n, team)) {
-      part_blocks_ = dynamic::valid_parts(options_.part_blocks, n, team)
-                         ? options_.part_blocks
-                         : dynamic::even_parts(n, team);
-      pairs_.team = 0;
+  const int threads = parallel() ? omp_get_max_threads() : 1;
+  while (steps > 0) {
+    // A timed team that lost to one thread leaves the next steps to one thread, across runs
+    // (advance); one part then, not the team's (no mirrors).
+    const bool alone = threads > 1 && choice_.alone_left > 0;
+    const int team = alone ? 1 : threads;
+    const auto prepare = [&](int t) {
+      if (alone) {
+        if (pairs_.team != 1) dynamic::plan_parts(pairs_, n, dynamic::even_parts(n, 1));
+      } else {
+        if (!dynamic::valid_parts(part_blocks_, n, t)) {
+          part_blocks_ = dynamic::valid_parts(options_.part_blocks, n, t)
+                             ? options_.part_blocks
+                             : dynamic::even_parts(n, t);
+          pairs_.team = 0;
+        }
+        if (pairs_.team != t) dynamic::plan_parts(pairs_, n, part_blocks_);
+      }
+      dynamic::size_passes(n, pairs_, blocks_);
+      viscous_blocks_.resize(blocks_.size());
+      team_slots_.resize(t);
+      team_slots_[0].hand_over = false;
+      wakeup_.reset();
+    };
+    const std::uint64_t chunk = alone ? std::min(steps, choice_.alone_left) : steps;
+    advanced_ = chunk;  // a timed team that hands over ends early (advance)
+    const Clock::time_point start = Clock::now();
+    dynamic::on_team(team, barrier_, prepare,
+                     [&](const dynamic::TeamMember& member) { advance(member, chunk); });
+    if (alone) {
+      choice_.alone_left -= chunk;
+      choice_.alone_steps += chunk;
+      choice_.phase_steps += chunk;
+      choice_.phase_seconds += seconds_since(start);
+      choice_.alone_seconds = choice_.phase_seconds / static_cast<double>(choice_.phase_steps);
     }
-    if (pairs_.team != team) dynamic::plan_parts(pairs_, n, part_blocks_);
-    dynamic::size_passes(n, pairs_, blocks_);
-    viscous_blocks_.resize(blocks_.size());
-    team_slots_.resize(team);
-    wakeup_.reset();
-  };
-  dynamic::on_team(parallel() ? omp_get_max_threads() : 1, barrier_, prepare,
-                   [&](const dynamic::TeamMember& member) { advance(member, steps); });
+    steps -= advanced_;
+  }
 }
 
-// A team whose threads the OS keeps on one CPU (a loaded machine: Linux wakes a sleeping thread
-// on its waker's CPU when the other is busy) is slower than one thread: it does the same work
-// plus the barriers, on one core. After `colocated_steps` such steps in a row, thread 0 runs all
-// parts alone (the same sweep order, so the same bits) for EngineOptions::alone_steps steps
-// while the others sleep, then wakes them: if the OS now puts them on another CPU, the team goes
-// on (docs/dynamic.md, "Performance").
-namespace {
-constexpr int colocated_steps = 16;
-}  // namespace
+// A team leaves its steps to one thread for a while in two cases (docs/dynamic.md,
+// "Performance"; the same bits either way):
+// - a team whose threads the OS keeps on one CPU (a loaded machine: Linux wakes a sleeping
+//   thread on its waker's CPU when the other is busy) does the same work plus the barriers on
+//   one core: after `colocated_steps` such steps in a row, thread 0 runs all the parts in their
+//   order for EngineOptions::alone_steps steps while the others sleep, then wakes them; if the
+//   OS now puts them on another CPU, the team goes on;
+// - below EngineOptions::timed_team_max_disks thread 0 times the team's steps in windows of
+//   window_steps(), run() times one thread's for a quarter of that, and the faster goes on
+//   (alone_after): the team stops, every thread at the same step, and run() gives the next
+//   steps to one thread on one part (no mirrors).
+
+std::uint64_t Engine::window_steps() const {
+  return options_.alone_steps > 0 ? options_.alone_steps
+                                  : std::max<std::uint64_t>(64, 2'000'000 / size());
+}
+
+// Lost: one thread for 1, 2, 4 .. 64 windows (doubling while the team keeps losing), then the
+// team again. Won: one thread is tried for a quarter window after 1, then 2, 4 .. 64 more team
+// windows, so a winning team loses at most ~1 % of its time to the trials in a long run.
+std::uint64_t Engine::alone_after(double team_seconds) {
+  TeamChoice& c = choice_;
+  c.team_seconds = team_seconds;
+  const std::uint64_t window = window_steps();
+  if (c.alone_seconds > 0.0 && team_seconds > c.alone_seconds) {
+    const int windows = c.alone_windows;
+    c.alone_windows = std::min(64, 2 * c.alone_windows);
+    c.team_windows = 1;
+    c.team_windows_won = 0;
+    return windows * window;
+  }
+  c.alone_windows = 1;
+  if (c.alone_seconds > 0.0 && ++c.team_windows_won < c.team_windows) return 0;
+  if (c.alone_seconds > 0.0) c.team_windows = std::min(64, 2 * c.team_windows);
+  c.team_windows_won = 0;
+  return std::max<std::uint64_t>(16, window / 4);
+}
 
 void Engine::advance(const dynamic::TeamMember& team_member, std::uint64_t steps) {
   Local local{cell_, sums_, neighbours_.rebuild_test(), 0.0};
@@ -217,24 +277,46 @@ void Engine::advance(const dynamic::TeamMember& team_member, std::uint64_t steps
   alone.threads = 1;
   alone.part_first = 0;
   alone.part_end = member.threads;
+  // Thread 0 times the team in windows of team steps, which go on across runs (the time
+  // between runs not counted) and start afresh after a time alone.
+  const bool timed = member.threads > 1 && size() < options_.timed_team_max_disks;
+  const std::uint64_t window = timed ? window_steps() : 0;
+  Clock::time_point mark = Clock::now();
+  std::uint64_t alone_steps = 0;  // thread 0: the length of the next time alone
   int colocated = 0;
   std::uint32_t hand_backs = 0;
   std::uint64_t s = 0;
   while (s < steps) {
     // Every thread counts the same steps (s), so they agree on the balance steps.
     const bool balance = balance_steps > 0 && (s + 1) % balance_steps == 0;
-    colocated = step_on(member, local, balance) ? colocated + 1 : 0;
+    bool hand_over = false;
+    colocated = step_on(member, local, balance, &hand_over) ? colocated + 1 : 0;
     ++s;
+    if (member.thread == 0 && timed && ++choice_.in_window == window) {
+      const double seconds = choice_.window_seconds + seconds_since(mark);
+      // Read by every thread after the next step's first barrier (step_on).
+      alone_steps = alone_after(seconds / static_cast<double>(window));
+      team_slots_[0].hand_over = alone_steps > 0;
+      choice_.in_window = 0;
+      choice_.window_seconds = 0.0;
+      mark = Clock::now();
+    }
+    if (hand_over) {
+      // Every thread stops here; run() gives the next steps to one thread.
+      if (member.thread == 0) advanced_ = s;
+      break;
+    }
     if (colocated < colocated_steps || s == steps) continue;
+    alone_steps = window_steps();
     colocated = 0;
     ++hand_backs;
     member.sync();  // the others finish the step before thread 0 takes over
     if (member.thread == 0) {
-      const std::uint64_t alone_steps = options_.alone_steps > 0
-                                            ? options_.alone_steps
-                                            : std::max<std::uint64_t>(64, 4'000'000 / size());
+      team_slots_[0].hand_over = false;  // the others read it after they wake
       const std::uint64_t end = std::min(steps, s + alone_steps);
+      const std::uint64_t from = s;
       for (; s < end; ++s) step_on(alone, local);
+      choice_.alone_steps += s - from;
       hand_back_ = {local, s};
       wakeup_.publish(hand_backs);
     } else {
@@ -244,6 +326,21 @@ void Engine::advance(const dynamic::TeamMember& team_member, std::uint64_t steps
     }
     clock = dynamic::TeamClock{};  // the time alone is no measure of the parts
     clock.leave();
+    if (member.thread == 0) {  // the team's window starts afresh, moving the data back included
+      choice_.in_window = 0;
+      choice_.window_seconds = 0.0;
+      mark = Clock::now();
+    }
+  }
+  if (member.thread == 0) {
+    choice_.window_seconds += seconds_since(mark);
+    if (team_slots_[0].hand_over) {  // taken (or decided in the run's last step): one thread next
+      choice_.alone_left = alone_steps;
+      choice_.phase_steps = 0;
+      choice_.phase_seconds = 0.0;
+      choice_.in_window = 0;
+      choice_.window_seconds = 0.0;
+    }
   }
   // Threads other than 0 read cell_ and sums_ only before their first barrier (or hand-back),
   // which thread 0 has passed too.
@@ -256,7 +353,8 @@ void Engine::advance(const dynamic::TeamMember& team_member, std::uint64_t steps
 
 // One step on the member's parts; returns whether the whole team ran it on one CPU. With balance,
 // the team's parts are balanced after the drift (balance_parts).
-bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balance) {
+bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balance,
+                     bool* hand_over) {
   const std::size_t n = disks_.size();
   const int first = dynamic::part_disks(pairs_, n, member.part_first)[0];
   const int end = dynamic::part_disks(pairs_, n, member.part_end - 1)[1];
@@ -287,11 +385,14 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
       local.max_d2 = std::max(local.max_d2, team_slots_[t].max_d2);
       colocated &= team_slots_[t].cpu == team_slots_[0].cpu;
     }
+    if (hand_over) *hand_over = team_slots_[0].hand_over;
   }
   if (local.rebuild_test(cell, local.max_d2)) {
     if (member.thread == 0) {
       neighbours_.rebuild(disks_, cell, pairs_, material_);
-      dynamic::plan_parts(pairs_, n, part_blocks_);
+      // The split this run has (one part when one thread runs a timed team's steps).
+      const std::vector<std::int32_t> split = pairs_.part_block;
+      dynamic::plan_parts(pairs_, n, split);
     }
     member.sync();
     local.rebuild_test = neighbours_.rebuild_test();

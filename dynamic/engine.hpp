@@ -31,12 +31,20 @@ struct EngineOptions {
   bool viscous_forces_drive_cell = true;
   // Samples with fewer disks run every loop on the calling thread whatever OMP_NUM_THREADS says:
   // below this size a step is too short for the synchronisation of a thread team to pay off
-  // (and on a loaded machine, waiting for a descheduled thread costs whole time slices). The
-  // results are the same bits either way (docs/dynamic.md, "Determinism"; bench/README.md).
-  std::size_t parallel_min_disks = 4096;
+  // (and on a loaded machine, waiting for a descheduled thread costs whole time slices); up to
+  // timed_team_max_disks the team checks that it pays. The results are the same bits either
+  // way (docs/dynamic.md, "Determinism"; bench/README.md).
+  std::size_t parallel_min_disks = 1024;
   // Steps a team that the OS keeps on one CPU runs on one thread before it tries again (see
-  // Engine::run); 0: 4e6 / N, about 0.2 s on the test machine. Same bits either way.
+  // Engine::run); 0: 2e6 / N, about 0.1 s on the test machine. Also the window over which a
+  // team times itself (timed_team_max_disks). Same bits either way.
   std::uint64_t alone_steps = 0;
+  // Below this many disks a team times its steps against one thread's (thread 0 running all the
+  // parts while the others sleep) and runs on one thread while that is faster (Engine::run;
+  // docs/dynamic.md, "Performance"). Two cores of a virtual machine pass cache lines in 50 ns
+  // at one time and in 230 ns at another, which decides whether two threads pay at N = 1400;
+  // above this size they always did. 0: never timed. Same bits either way.
+  std::size_t timed_team_max_disks = 4096;
   // Every so many steps a team moves its parts' boundaries (whole blocks of 64 disks) towards
   // equal work times of its threads, when the slowest took more than 3 % over the mean: a CPU
   // that runs slower (a busy neighbour of a virtual machine) or a part with more boundary work
@@ -125,6 +133,8 @@ class Engine {
   // many times balancing moved it so far.
   const std::vector<std::int32_t>& part_blocks() const { return part_blocks_; }
   std::uint64_t part_moves() const { return part_moves_; }
+  // Steps that a team ran on one thread so far (on one CPU, or slower than one thread).
+  std::uint64_t alone_step_count() const { return choice_.alone_steps; }
 
  private:
   bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
@@ -145,7 +155,13 @@ class Engine {
   };
   // One thread's share of run(steps), inside the team's parallel region.
   void advance(const dynamic::TeamMember& member, std::uint64_t steps);
-  bool step_on(const dynamic::TeamMember& member, Local& local, bool balance = false);
+  // Returns whether the whole team ran the step on one CPU; *hand_over: thread 0 asked the team
+  // to let it run alone (TeamChoice).
+  bool step_on(const dynamic::TeamMember& member, Local& local, bool balance = false,
+               bool* hand_over = nullptr);
+  std::uint64_t window_steps() const;
+  // Thread 0 after a window of the team: how many steps one thread runs next (0: none).
+  std::uint64_t alone_after(double team_seconds);
   void balance_parts();  // thread 0, while the team waits
   dynamic::ForceInputs force_inputs(const dynamic::CellState& cell, double dt_tangential,
                                     bool mid_step) const;
@@ -170,7 +186,24 @@ class Engine {
     double max_d2 = 0.0;
     double busy = 0.0;  // work seconds since the last balance (at a balance step)
     int cpu = -1;
+    bool hand_over = false;  // thread 0's slot only: run alone from the next step
   };
+  // What a timed team knows of its speed against one thread (EngineOptions::
+  // timed_team_max_disks), across runs: seconds per step of the last window of each; how many
+  // windows the team runs before it tries one thread again, and how many one thread runs after
+  // the team lost.
+  struct TeamChoice {
+    double team_seconds = 0.0, alone_seconds = 0.0;  // 0: not timed yet
+    int team_windows = 1, alone_windows = 1;
+    int team_windows_won = 0;       // since the last try of one thread
+    std::uint64_t in_window = 0;    // team steps of the current window
+    double window_seconds = 0.0;    // and their seconds in earlier runs
+    std::uint64_t alone_left = 0;   // steps one thread is still to run
+    std::uint64_t phase_steps = 0;  // of the current time alone, and their seconds
+    double phase_seconds = 0.0;
+    std::uint64_t alone_steps = 0;  // in all
+  } choice_;
+  std::uint64_t advanced_ = 0;  // steps of the last team run (thread 0 sets them on a hand-over)
   std::vector<std::int32_t> part_blocks_;  // the team's split (PairArrays::part_block)
   std::uint64_t part_moves_ = 0;
   std::vector<TeamSlot> team_slots_;

@@ -59,10 +59,12 @@ int main(int argc, char** argv) {
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu_secs = cpu() - c0;
-  std::printf("# dt %.17g skin %g threads %d rebuilds %llu part moves %llu, parts (first blocks)",
-              e.dt(), options.skin, threads,
-              static_cast<unsigned long long>(e.neighbour_rebuilds()),
-              static_cast<unsigned long long>(e.part_moves()));
+  std::printf(
+      "# dt %.17g skin %g threads %d rebuilds %llu part moves %llu alone steps %llu, parts (first "
+      "blocks)",
+      e.dt(), options.skin, threads, static_cast<unsigned long long>(e.neighbour_rebuilds()),
+      static_cast<unsigned long long>(e.part_moves()),
+      static_cast<unsigned long long>(e.alone_step_count()));
   for (const std::int32_t b : e.part_blocks()) std::printf(" %d", b);
   std::printf("\n");
   for (const Sample& s : curve) {

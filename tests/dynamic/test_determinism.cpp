@@ -106,7 +106,7 @@ TEST(Determinism, OneAndTwoThreadsAgreeAcrossAMaterialChange) {
 }
 
 // Below EngineOptions::parallel_min_disks the loops run on the calling thread: same bits as the
-// team (the default threshold, 4096, is above these 400 disks).
+// team (the default threshold, 1024, is above these 400 disks).
 // Two threads that the OS keeps on one CPU (here: bound to the first allowed one) hand the step
 // to one of them for a while (EngineOptions::alone_steps) and take it back as a team: the same
 // bits as one thread, through every hand-over.
@@ -133,6 +133,21 @@ TEST(Determinism, ATeamOnOneCpuRunsAloneWithTheSameBits) {
   const Configuration shared = run(start, 2, 1500, 0, options);
   bind_team(all);
   expect_identical(shared, run(start, 1, 1500));
+}
+
+// A timed team (EngineOptions::timed_team_max_disks) gives its steps to one thread after a
+// window, in the middle of a run and across runs, through list rebuilds (one thread then runs
+// one part, and the team's split comes back after it): the bits of one thread.
+TEST(Determinism, ATimedTeamHandsItsStepsToOneThreadWithTheSameBits) {
+  const Configuration start = gas();
+  EngineOptions options = team_options();
+  options.alone_steps = 16;  // windows of 16 steps: one thread tries after the first
+  omp_set_num_threads(2);
+  Engine e(start, options);
+  for (int steps : {700, 1, 333, 466}) e.run(steps);
+  EXPECT_GT(e.alone_step_count(), 0u);
+  EXPECT_GT(e.neighbour_rebuilds(), 5u);
+  expect_identical(e.configuration(), run(start, 1, 1500));
 }
 
 // The team's split does not change the bits (EngineOptions::part_blocks, balance_steps): two
