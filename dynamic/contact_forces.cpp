@@ -499,6 +499,35 @@ BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n, bool p
   return add_blocks(blocks, block_count(n), periodic);
 }
 
+// The order of add_blocks as a chain of segments: the pair blocks of part 0, 1, .. (thread t
+// runs part t), then (walls) their disk blocks. Segment k's thread waits for the sum up to
+// segment k - 1 (slot k - 1), adds its blocks, hands it on (slot k).
+BlockSums relay_sum_blocks(const TeamMember& member, const std::vector<BlockSums>& blocks,
+                           const PairArrays& pairs, std::size_t n, bool periodic,
+                           Relay<BlockSums>& relay, std::uint32_t epoch) {
+  const int nb = block_count(n);
+  if (member.threads <= 1) return add_blocks(blocks, nb, periodic);
+  const int team = member.threads, t = member.thread;
+  const int segments = periodic ? team : 2 * team;
+  BlockSums sum;
+  for (int k = t; k < segments; k += team) {
+    if (k > 0) {
+      if (member.clock) member.clock->arrive();
+      sum = relay.await(k - 1, epoch);
+      if (member.clock) member.clock->leave();
+    }
+    const int offset = k < team ? 0 : nb;
+    fold_blocks(sum, blocks, offset + pairs.part_block[t], offset + pairs.part_block[t + 1],
+                periodic);
+    relay.publish(k, sum, epoch);
+  }
+  if ((segments - 1) % team == t) return sum;
+  if (member.clock) member.clock->arrive();
+  sum = relay.await(segments - 1, epoch);
+  if (member.clock) member.clock->leave();
+  return sum;
+}
+
 void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
                          const ForceInputs& in, std::vector<BlockSums>& blocks) {
   const Cell cell = cell_of(in);

@@ -68,6 +68,15 @@ void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays
 // The sample's sums of the last pass: the block sums added in block order (the same bits on
 // every thread and for every team size).
 BlockSums sum_blocks(const std::vector<BlockSums>& blocks, std::size_t n, bool periodic);
+// The same sums on a team, without a barrier: each thread adds its own parts' blocks to the
+// running sum of the threads before it in block order and hands it on (relay: 2 x team slots,
+// reset before the team starts; epoch: 1, 2, .. for the team's successive reductions); every
+// thread gets the total from the last. Each thread reads its own blocks and a few lines of the
+// others', where sum_blocks reads every block (on the AMD VM the other core's lines cost
+// ~230 ns each). Same bits as sum_blocks. pairs.part_block: the team's parts, one per thread.
+BlockSums relay_sum_blocks(const TeamMember& member, const std::vector<BlockSums>& blocks,
+                           const PairArrays& pairs, std::size_t n, bool periodic,
+                           Relay<BlockSums>& relay, std::uint32_t epoch);
 
 // Whether the force pass of a time step runs its distance tests and contact laws in the SIMD
 // kernel (contact_forces_simd.hpp; AVX-512, chosen at run time) rather than in the scalar pair

@@ -180,10 +180,10 @@ double seconds_since(Clock::time_point t) {
 // gives its steps to one thread ends it early, below): each thread drifts,
 // sweeps and kicks the disks of its own part in every pass of every step, and the team meets
 // at the barriers the data flow needs: after the drift (partners' positions and mid-step
-// velocities, the displacement maximum), after the force pass (the stress sums the cell's
-// control needs, the final velocities the viscous refresh reads) and after the viscous refresh
-// (its sums). The cell's state is a few numbers: every thread computes it alike from the same
-// sums (same bits), so no thread waits for another to do it.
+// velocities, the displacement maximum) and after the force pass (the final velocities the
+// viscous refresh reads). The block sums the cell's control needs are relayed from thread to
+// thread (relay_sum_blocks). The cell's state is a few numbers: every thread computes it alike
+// from the same sums (same bits), so no thread waits for another to do it.
 void Engine::run(std::uint64_t steps) {
   const std::size_t n = disks_.size();
   const int threads = parallel() ? omp_get_max_threads() : 1;
@@ -208,6 +208,7 @@ void Engine::run(std::uint64_t steps) {
       viscous_blocks_.resize(blocks_.size());
       team_slots_.resize(t);
       team_slots_[0].hand_over = false;
+      relay_.reset(2 * t);
       wakeup_.reset();
     };
     const std::uint64_t chunk = alone ? std::min(steps, choice_.alone_left) : steps;
@@ -400,8 +401,9 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   ForceInputs in = force_inputs(cell, dt_, true);
   in.kick = true;  // the disks' second half kick, as each disk's forces are complete
   dynamic::contact_forces_part(member, disks_, pairs_, in, blocks_);
-  member.sync();
-  sums = dynamic::sum_blocks(blocks_, n, cell.periodic());
+  member.sync();  // the final velocities, which the viscous refresh reads
+  sums =
+      dynamic::relay_sum_blocks(member, blocks_, pairs_, n, cell.periodic(), relay_, ++local.epoch);
   control_cell(cell, sums);
   dynamic::kick_cell(cell, stage_, dt_);
   // The viscous forces of the final velocities (zeta = 0: alpha = 0, they are exact zeros,
@@ -409,8 +411,10 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   if (material_.zeta != 0.0) {
     dynamic::viscous_forces_part(member, disks_, pairs_, force_inputs(cell, 0.0, false),
                                  viscous_blocks_);
-    member.sync();  // the viscous block sums
-    const BlockSums v = dynamic::sum_blocks(viscous_blocks_, n, cell.periodic());
+    // No barrier: the next step's drift touches nothing the refresh reads (it writes the
+    // mid-step velocities, not vx, vy), and the relay hands the sums on.
+    const BlockSums v = dynamic::relay_sum_blocks(member, viscous_blocks_, pairs_, n,
+                                                  cell.periodic(), relay_, ++local.epoch);
     sums.sigma_viscous = v.sigma_viscous;
     sums.wall_force_viscous = v.wall_force_viscous;
     control_cell(cell, sums);

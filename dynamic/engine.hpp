@@ -151,7 +151,8 @@ class Engine {
     dynamic::CellState cell;
     dynamic::BlockSums sums;
     dynamic::NeighbourList::RebuildTest rebuild_test;
-    double max_d2 = 0.0;  // largest displacement since the list build, squared
+    double max_d2 = 0.0;      // largest displacement since the list build, squared
+    std::uint32_t epoch = 0;  // the team's reductions so far (relay_)
   };
   // One thread's share of run(steps), inside the team's parallel region.
   void advance(const dynamic::TeamMember& member, std::uint64_t steps);
@@ -182,6 +183,7 @@ class Engine {
   // cache line each, written by its thread, read by all after the barrier); where threads
   // sleep while thread 0 runs alone, and the state it hands back to them.
   dynamic::SpinBarrier barrier_;
+  dynamic::Relay<dynamic::BlockSums> relay_;  // the block sums handed from thread to thread
   struct alignas(64) TeamSlot {
     double max_d2 = 0.0;
     double busy = 0.0;  // work seconds since the last balance (at a balance step)

@@ -3,16 +3,44 @@
 // thread keeping the same part of the disks for every pass and every step, and a barrier of
 // its own between the passes. libgomp's barrier sleeps at once under OMP_WAIT_POLICY=passive
 // (10-20 us to wake a thread here, against a step of ~140 us at N = 5600 on two threads); this
-// one spins briefly, then yields, and only then sleeps (see wait()). Also where the team sleeps
-// while one thread runs it alone (Wakeup; engine.cpp).
+// one spins briefly, then yields, and only then sleeps (wait_for). Also the relay that hands
+// values from thread to thread (Relay), and where the team sleeps while one thread runs it alone
+// (Wakeup; engine.cpp).
 #include <omp.h>
 #include <sched.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <vector>
 
 namespace granstab::dynamic {
+
+// Returns once done(word) holds (word read with acquire). Spins 300 pause instructions (~3 us on
+// the Xeon of the test VM, ~6 us on the AMD one): two threads on two cores arrive within that in
+// most passes. Then yields: when both threads share one CPU (a loaded machine: Linux
+// keeps waking threads on the waker's CPU) this hands it to the partner at once, where spinning
+// would burn the time slice it waits for (10 us of spinning made two threads 25 % slower there,
+// 100 us three to twenty times). Then sleeps on the word (futex).
+template <class Done>
+void wait_for(const std::atomic<std::uint32_t>& word, Done done) {
+  constexpr int spin_iterations = 300;
+  constexpr int yield_iterations = 1000;
+  for (int k = 0; k < spin_iterations; ++k) {
+    if (done(word.load(std::memory_order_acquire))) return;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+  for (int k = 0; k < yield_iterations; ++k) {
+    if (done(word.load(std::memory_order_acquire))) return;
+    sched_yield();
+  }
+  for (std::uint32_t v = word.load(std::memory_order_acquire); !done(v);
+       v = word.load(std::memory_order_acquire)) {
+    word.wait(v, std::memory_order_acquire);
+  }
+}
 
 class SpinBarrier {
  public:
@@ -40,37 +68,46 @@ class SpinBarrier {
       generation_.notify_all();  // no system call unless a thread sleeps
       return;
     }
-    for (int k = 0; k < spin_iterations; ++k) {
-      if (generation_.load(std::memory_order_acquire) != gen) return;
-      pause();
-    }
-    for (int k = 0; k < yield_iterations; ++k) {
-      if (generation_.load(std::memory_order_acquire) != gen) return;
-      sched_yield();
-    }
-    while (generation_.load(std::memory_order_acquire) == gen) {
-      generation_.wait(gen, std::memory_order_acquire);
-    }
+    wait_for(generation_, [gen](std::uint32_t g) { return g != gen; });
   }
 
  private:
-  // ~3 us of pause instructions (9 ns each on the Xeon of the test VM): two threads on two
-  // cores arrive within that in most passes. Then yields: when both threads share one CPU
-  // (a loaded machine: Linux keeps waking threads on the waker's CPU) this hands it to the
-  // partner at once, where spinning would burn the time slice it waits for (10 us of spinning
-  // made two threads 25 % slower there, 100 us three to twenty times). Then sleep.
-  static constexpr int spin_iterations = 300;
-  static constexpr int yield_iterations = 1000;
-  static void pause() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-  }
   // The counter and the generation on cache lines of their own: the spinning threads read the
   // generation only, and the arrivals do not invalidate it until the last one.
   alignas(64) std::atomic<int> arrived_{0};
   alignas(64) std::atomic<std::uint32_t> generation_{0};
   alignas(64) int threads_ = 1;
+};
+
+// Values passed from thread to thread in a fixed order (the chained block sums,
+// contact_forces.cpp): slot k holds the k-th value of reduction number `epoch` (from 1 after a
+// reset). A reader waits as at the barrier (wait_for). Slots on cache lines of their own.
+template <class Value>
+class Relay {
+ public:
+  Relay() = default;
+  Relay(const Relay&) {}  // holds nothing between two runs
+  Relay& operator=(const Relay&) { return *this; }
+  // Call while no thread uses the relay (before a team starts); epochs then start at 1.
+  void reset(int slots) { slots_ = std::vector<Slot>(slots); }
+  void publish(int k, const Value& value, std::uint32_t epoch) {
+    Slot& s = slots_[k];
+    s.value = value;
+    s.epoch.store(epoch, std::memory_order_release);
+    s.epoch.notify_all();  // no system call unless a thread sleeps
+  }
+  const Value& await(int k, std::uint32_t epoch) const {
+    const Slot& s = slots_[k];
+    wait_for(s.epoch, [epoch](std::uint32_t e) { return e == epoch; });
+    return s.value;
+  }
+
+ private:
+  struct alignas(64) Slot {
+    std::atomic<std::uint32_t> epoch{0};
+    Value value{};
+  };
+  std::vector<Slot> slots_;
 };
 
 // Where the threads of a team that one thread runs alone sleep (engine.cpp): until that thread

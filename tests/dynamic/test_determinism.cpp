@@ -81,9 +81,14 @@ TEST(Determinism, SameThreadCountSameBits) {
 // Every reduction is over fixed blocks of disks summed in index order and every disk sums its
 // pairs in partner order, so the thread count does not change a single bit (stronger than the
 // "within round-off" of the issue).
+// Between walls too: the relayed block sums (dynamic::relay_sum_blocks) then pass twice through
+// the team, pair blocks then disk blocks (with the walls' forces).
 TEST(Determinism, OneAndTwoThreadsAgree) {
-  const Configuration start = gas();
-  expect_identical(run(start, 1, 1500), run(start, 2, 1500));
+  for (Boundary boundary : {Boundary::periodic, Boundary::walls}) {
+    SCOPED_TRACE(boundary == Boundary::periodic ? "periodic" : "walls");
+    const Configuration start = gas(boundary);
+    expect_identical(run(start, 1, 1500), run(start, 2, 1500));
+  }
 }
 
 // A material changed between two runs (the biaxial test after a preparation at mu_prep): the
