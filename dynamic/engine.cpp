@@ -249,7 +249,6 @@ std::uint64_t Engine::window_steps() const {
 // windows, so a winning team loses at most ~1 % of its time to the trials in a long run.
 std::uint64_t Engine::alone_after(double team_seconds) {
   TeamChoice& c = choice_;
-  c.team_seconds = team_seconds;
   const std::uint64_t window = window_steps();
   if (c.alone_seconds > 0.0 && team_seconds > c.alone_seconds) {
     const int windows = c.alone_windows;

@@ -39,8 +39,8 @@ struct EngineOptions {
   // Engine::run); 0: 2e6 / N, about 0.1 s on the test machine. Also the window over which a
   // team times itself (timed_team_max_disks). Same bits either way.
   std::uint64_t alone_steps = 0;
-  // Below this many disks a team times its steps against one thread's (thread 0 running all the
-  // parts while the others sleep) and runs on one thread while that is faster (Engine::run;
+  // Below this many disks a team times its steps against one thread's (the sample as one part,
+  // no team) and runs on one thread while that is faster (Engine::run;
   // docs/dynamic.md, "Performance"). Two cores of a virtual machine pass cache lines in 50 ns
   // at one time and in 230 ns at another, which decides whether two threads pay at N = 1400;
   // above this size they always did. 0: never timed. Same bits either way.
@@ -133,7 +133,7 @@ class Engine {
   // many times balancing moved it so far.
   const std::vector<std::int32_t>& part_blocks() const { return part_blocks_; }
   std::uint64_t part_moves() const { return part_moves_; }
-  // Steps that a team ran on one thread so far (on one CPU, or slower than one thread).
+  // Steps that a team left to one thread so far (on one CPU, or timed against one thread).
   std::uint64_t alone_step_count() const { return choice_.alone_steps; }
 
  private:
@@ -157,7 +157,7 @@ class Engine {
   // One thread's share of run(steps), inside the team's parallel region.
   void advance(const dynamic::TeamMember& member, std::uint64_t steps);
   // Returns whether the whole team ran the step on one CPU; *hand_over: thread 0 asked the team
-  // to let it run alone (TeamChoice).
+  // to stop and leave the next steps to one thread (TeamChoice).
   bool step_on(const dynamic::TeamMember& member, Local& local, bool balance = false,
                bool* hand_over = nullptr);
   std::uint64_t window_steps() const;
@@ -191,11 +191,11 @@ class Engine {
     bool hand_over = false;  // thread 0's slot only: run alone from the next step
   };
   // What a timed team knows of its speed against one thread (EngineOptions::
-  // timed_team_max_disks), across runs: seconds per step of the last window of each; how many
-  // windows the team runs before it tries one thread again, and how many one thread runs after
-  // the team lost.
+  // timed_team_max_disks), across runs: one thread's seconds per step in its last stretch; how
+  // many windows the team runs before it tries one thread again, and how many one thread runs
+  // after the team lost.
   struct TeamChoice {
-    double team_seconds = 0.0, alone_seconds = 0.0;  // 0: not timed yet
+    double alone_seconds = 0.0;  // 0: not timed yet
     int team_windows = 1, alone_windows = 1;
     int team_windows_won = 0;       // since the last try of one thread
     std::uint64_t in_window = 0;    // team steps of the current window

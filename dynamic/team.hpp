@@ -89,7 +89,10 @@ class Relay {
   Relay(const Relay&) {}  // holds nothing between two runs
   Relay& operator=(const Relay&) { return *this; }
   // Call while no thread uses the relay (before a team starts); epochs then start at 1.
-  void reset(int slots) { slots_ = std::vector<Slot>(slots); }
+  void reset(int slots) {
+    if (slots_.size() != static_cast<std::size_t>(slots)) slots_ = std::vector<Slot>(slots);
+    for (Slot& s : slots_) s.epoch.store(0, std::memory_order_relaxed);
+  }
   void publish(int k, const Value& value, std::uint32_t epoch) {
     Slot& s = slots_[k];
     s.value = value;
