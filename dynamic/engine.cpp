@@ -391,8 +391,7 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
     if (member.thread == 0) {
       neighbours_.rebuild(disks_, cell, pairs_, material_);
       // The split this run has (one part when one thread runs a timed team's steps).
-      const std::vector<std::int32_t> split = pairs_.part_block;
-      dynamic::plan_parts(pairs_, n, split);
+      dynamic::plan_parts(pairs_, n, pairs_.part_block);
     }
     member.sync();
     local.rebuild_test = neighbours_.rebuild_test();

@@ -21,7 +21,7 @@ std::vector<std::int32_t> balanced_parts(const std::vector<std::int32_t>& part_b
                                          const std::vector<double>& busy, double tolerance);
 // The split's crossing pairs (j in a later part than i) and their mirrors in j's part, with a
 // copy of the pairs' state (PairArrays::mirrors): after every list rebuild, for a new team size
-// and when the split moves.
+// and when the split moves. part_block may be pairs.part_block itself (a replan of the split).
 void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t>& part_block);
 std::array<int, 2> part_disks(const PairArrays& pairs, std::size_t n, int part);  // [first, end)
 
