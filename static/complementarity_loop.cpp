@@ -283,38 +283,48 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       break;
     }
     if (solved == Solve::pinned_out_of_balance) {
-      // Not a singular K: these statuses have no solution (kept_dofs, backbone.hpp), so some
-      // sliding contact of each unbalanced gear cluster must stick. Which ones is the LCP of
-      // those contacts (the others held); if Lemke does not solve it, all of them are tried
-      // sticking and the loop (and its LCP, if it cycles) decides which slide again. No
-      // enumeration: a cluster can hold every contact (the 16-disk lattice: 48), and 2^18 bases
-      // took 0.9 s of the lattice's 1 s q1 for the same result.
+      // Not a singular K: these statuses have no solution (kept_dofs, backbone.hpp).
       const std::vector<int> stuck =
           sliding_contacts_of_gear_clusters(net, states, p.statuses, unbalanced);
       if (stuck.empty()) {
-        p.failure = "dropped rows out of balance";
-        break;
-      }
-      if (!options.resolve_floppy_rotations) {
-        p.failure = "pinned rotation rows out of balance";
-        p.unbalanced_rotations = true;
-        break;
-      }
-      std::vector<char> cluster(nc, 0);
-      std::vector<double> sign(nc, 0.0);
-      for (const int c : stuck) {
-        cluster[c] = 1;
-        sign[c] = p.statuses[c] == ContactStatus::slide_positive ? 1.0 : -1.0;
-        undecided[c] = 1;
-      }
-      const LcpResolution lcp =
-          resolve_by_lcp(net, states, critical, r0, p.statuses, cluster, sign, 0, options, timings);
-      if (lcp.outcome == LcpResult::Outcome::solved) {
-        p.statuses = lcp.statuses;
+        // No gear cluster: a loaded disk whose contacts all open under these statuses, its dofs
+        // dropped. Resolved, a step's predictor lets it go and the corrector, which moves every
+        // disk on the full equilibrium, decides whether its contacts close (its rates are those
+        // of a near-rattler: the status loop swung ~260 statuses per iterate when they were held
+        // closed instead, series B). The check keeps the failure: under an infinitesimal
+        // increment a loaded contact cannot open, so there these statuses are no solution.
+        if (!options.resolve_unbalanced_rows || rhs) {
+          p.failure = "dropped rows out of balance";
+          p.unbalanced_rows = true;
+          break;
+        }
       } else {
-        for (const int c : stuck) p.statuses[c] = ContactStatus::stick;
+        // Some sliding contact of each unbalanced gear cluster must stick. Which ones is the LCP
+        // of those contacts (the others held); if Lemke does not solve it, all of them are tried
+        // sticking and the loop (and its LCP, if it cycles) decides which slide again. No
+        // enumeration: a cluster can hold every contact (the 16-disk lattice: 48), and 2^18
+        // bases took 0.9 s of the lattice's 1 s q1 for the same result.
+        if (!options.resolve_unbalanced_rows) {
+          p.failure = "pinned rotation rows out of balance";
+          p.unbalanced_rows = true;
+          break;
+        }
+        std::vector<char> cluster(nc, 0);
+        std::vector<double> sign(nc, 0.0);
+        for (const int c : stuck) {
+          cluster[c] = 1;
+          sign[c] = p.statuses[c] == ContactStatus::slide_positive ? 1.0 : -1.0;
+          undecided[c] = 1;
+        }
+        const LcpResolution lcp = resolve_by_lcp(net, states, critical, r0, p.statuses, cluster,
+                                                 sign, 0, options, timings);
+        if (lcp.outcome == LcpResult::Outcome::solved) {
+          p.statuses = lcp.statuses;
+        } else {
+          for (const int c : stuck) p.statuses[c] = ContactStatus::stick;
+        }
+        continue;
       }
-      continue;
     }
     // Complementarity checks on the linearised increment (§S3.1), with the tie width of this
     // iterate: eta times the largest contact force increment.

@@ -30,15 +30,17 @@ struct SolverOptions {
   // Largest such LCP whose principal bases are all enumerated when Lemke ends on a ray (2^n
   // small solves): only then can it prove that no consistent status set exists.
   int max_lcp_enumerated = 18;
-  // A status set whose pinned gear rotation rows are out of balance (every contact of a floppy
-  // cluster sliding, their forces doing net work in its gear mode: STATIC.md §S3.5, kept_dofs)
-  // has no solution. Off: the loop ends there (PredictorResult::unbalanced_rotations) and the
-  // step control halves, as for any status failure (§S3.3). On: the LCP of the cluster's sliding
-  // contacts decides which of them stick and the loop goes on. trace_to_instability turns it on
+  // A status set whose dropped rows are out of balance has no solution: pinned gear rotation rows
+  // (every contact of a floppy cluster sliding, their forces doing net work in its gear mode:
+  // STATIC.md §S3.5, kept_dofs), or the rows of a loaded disk whose contacts all open. Off: the
+  // loop ends there (PredictorResult::unbalanced_rows) and the step control halves, as for any
+  // status failure (§S3.3). On: the LCP of the cluster's sliding contacts decides which of them
+  // stick and the loop goes on; a step's predictor (not the check) lets the open disk go, for the
+  // corrector to settle. trace_to_instability turns it on
   // for the attempt at the step floor only, where the rate problem itself must be settled
   // (docs/validation.md, "Static q1: floppy rotations out of balance": on in every step, it takes
   // the finite steps through non-unique solutions and periodic-n100's q1 depends on the labels).
-  bool resolve_floppy_rotations = false;
+  bool resolve_unbalanced_rows = false;
   // Tangents of the predictor and corrector with a fixed sparsity pattern (TangentParts): one
   // UMFPACK symbolic analysis per contact list instead of one per status set (q1 at N = 5600
   // 196 -> 152 s CPU). Another pivot order, so other round-off; since the rattler fix the same
@@ -104,10 +106,10 @@ struct PredictorResult {
   std::string failure;
   // The LCP of the undecided contacts proved that no consistent status set exists.
   bool no_solution = false;
-  // The loop ended on a status set whose pinned gear rotation rows are out of balance
-  // (SolverOptions::resolve_floppy_rotations off): no solution for those statuses, not a
-  // singular K.
-  bool unbalanced_rotations = false;
+  // The loop ended on a status set whose pinned gear rotation rows, or rows of a loaded disk with
+  // all its contacts open, are out of balance (SolverOptions::resolve_unbalanced_rows off, or the
+  // open disk in a check): no solution for those statuses, not a singular K.
+  bool unbalanced_rows = false;
   Eigen::VectorXd dq;
   std::vector<ContactStatus> statuses;  // consistent statuses of the increment
   int determinant_sign = 0;  // of K(statuses) on the kept dofs (0 if not asked for and unknown)

@@ -328,12 +328,12 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   if (options.on_accepted) options.on_accepted(lambda, net);
 
   // The start itself may already be unstable (no increment has a stable consistent solution).
-  // Floppy rotations out of balance are settled exactly there, as at the step floor below.
+  // Dropped rows out of balance (floppy rotations, a loaded disk whose contacts all open) are
+  // settled there, as at the step floor below.
   SolverOptions exact = options.solver;
-  exact.resolve_floppy_rotations = true;
+  exact.resolve_unbalanced_rows = true;
   PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
-  if (check.unbalanced_rotations)
-    check = check_state(net, lambda, step, path, exact, &result.timings);
+  if (check.unbalanced_rows) check = check_state(net, lambda, step, path, exact, &result.timings);
   Spectrum spectrum = spectrum_of(net, check, options.count_negative_eigenvalues);
   int negative = spectrum.negative;
   point.determinant_sign = check.determinant_sign;
@@ -377,9 +377,10 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   double event_below = inf;  // adaptive: a status change is known to happen below this load
   int successes_since_cut = 0;
   std::vector<char> beyond;  // contacts the latest failed attempt made slide
-  // A status set with floppy rotations out of balance has no solution, like any inconsistent set:
+  // A status set with dropped rows out of balance (floppy rotations, a loaded disk whose contacts
+  // all open) has no solution, like any inconsistent set:
   // the step is halved (§S3.3), and smaller steps usually reach other statuses. Only the attempt
-  // at the floor settles them exactly (SolverOptions::resolve_floppy_rotations) before the
+  // at the floor settles them exactly (SolverOptions::resolve_unbalanced_rows) before the
   // failure may count as q1: there the rate problem itself is decided. (Settling them in every
   // step takes larger steps through non-unique finite-step solutions: docs/validation.md.)
   bool at_floor_exact = false;
@@ -390,7 +391,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     const StepResult s = load_step(trial, solver, &result.timings, &last_check);
     ++attempts;
     bool accepted = false;
-    bool unbalanced = s.predictor.unbalanced_rotations;
+    bool unbalanced = s.predictor.unbalanced_rows;
     beyond = s.predictor.ever_sliding;
     Spectrum next;
     const bool big = step > dq_above;
@@ -399,7 +400,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     } else if (s.ok) {
       rebuild_degrees_of_freedom(trial);
       check = check_state(trial, lambda + step, step, path, solver, &result.timings);
-      unbalanced = check.unbalanced_rotations;
+      unbalanced = check.unbalanced_rows;
       next = spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
       negative = next.negative;
       if (big && check.ok && check.statuses != last_check.statuses) {
@@ -483,7 +484,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
     if (step * 0.5 < options.dq_min) {
       if (unbalanced && !at_floor_exact) {
-        at_floor_exact = true;  // the same attempt again, settling the floppy rotations
+        at_floor_exact = true;  // the same attempt again, settling the unbalanced rows
         continue;
       }
       result.q1 = lambda;

@@ -60,7 +60,7 @@ TEST(FloppyRotation, TheCornerDiskIsOnTheConeAtBothWallsWithItsTorqueCarried) {
             (std::vector<int>{0, 1}));
 }
 
-// The predictor on the pushed corner disk: without resolve_floppy_rotations it reports the
+// The predictor on the pushed corner disk: without resolve_unbalanced_rows it reports the
 // status set (both contacts sliding) as out of balance, not as a singular K; with it, the LCP of
 // the two contacts makes one stick and the loop ends consistent.
 TEST(FloppyRotation, PredictorSettlesTheUnbalancedRotationWhenAsked) {
@@ -69,9 +69,9 @@ TEST(FloppyRotation, PredictorSettlesTheUnbalancedRotationWhenAsked) {
   SolverOptions options;
   const PredictorResult off = predict(net, options, nullptr, nullptr, nullptr, true);
   EXPECT_FALSE(off.ok);
-  EXPECT_TRUE(off.unbalanced_rotations);
+  EXPECT_TRUE(off.unbalanced_rows);
   EXPECT_EQ(off.failure, "pinned rotation rows out of balance");
-  options.resolve_floppy_rotations = true;
+  options.resolve_unbalanced_rows = true;
   const PredictorResult on = predict(net, options, nullptr, nullptr, nullptr, true);
   ASSERT_TRUE(on.ok) << on.failure;
   EXPECT_GT(on.determinant_sign, 0);
