@@ -36,10 +36,10 @@ struct SolverOptions {
   // loop ends there (PredictorResult::unbalanced_rows) and the step control halves, as for any
   // status failure (§S3.3). On: the LCP of the cluster's sliding contacts decides which of them
   // stick and the loop goes on; a step's predictor (not the check) lets the open disk go, for the
-  // corrector to settle. trace_to_instability turns it on
-  // for the attempt at the step floor only, where the rate problem itself must be settled
-  // (docs/validation.md, "Static q1: floppy rotations out of balance": on in every step, it takes
-  // the finite steps through non-unique solutions and periodic-n100's q1 depends on the labels).
+  // corrector to settle. trace_to_instability turns it on for the attempt at the step floor
+  // only, where the rate problem itself must be settled (docs/validation.md, "Static q1: floppy
+  // rotations out of balance": on in every step, it takes the finite steps through non-unique
+  // solutions and periodic-n100's q1 depends on the labels).
   bool resolve_unbalanced_rows = false;
   // Tangents of the predictor and corrector with a fixed sparsity pattern (TangentParts): one
   // UMFPACK symbolic analysis per contact list instead of one per status set (q1 at N = 5600

@@ -328,8 +328,8 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   if (options.on_accepted) options.on_accepted(lambda, net);
 
   // The start itself may already be unstable (no increment has a stable consistent solution).
-  // Dropped rows out of balance (floppy rotations, a loaded disk whose contacts all open) are
-  // settled there, as at the step floor below.
+  // Floppy rotations out of balance are settled exactly there, as at the step floor below (a
+  // loaded disk whose contacts all open stays a failure of a check: §S3.5).
   SolverOptions exact = options.solver;
   exact.resolve_unbalanced_rows = true;
   PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
