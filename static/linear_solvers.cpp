@@ -170,7 +170,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
     log10_det_ = 0.0;
     return true;
   }
-  if (m.reuse.krylov) {
+  if (m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs) {
     for (const auto& base : base_factors())
       if (base->k.rows() == k.rows()) {
         m.preconditioner = base;  // the most recent one of this size
@@ -238,7 +238,9 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
   m.full = lu;
-  if (m.reuse.low_rank || m.reuse.krylov) remember_base(std::move(lu));
+  // Kept as a base only where one can serve: held here, a KLU factor would not become a spare.
+  if (m.reuse.low_rank || (m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs))
+    remember_base(std::move(lu));
   return true;
 }
 

@@ -76,6 +76,12 @@ struct LuReuse {
   // and magnitude) and solve_unrefined (the eigensolvers' operator). Takes precedence over
   // low_rank.
   bool krylov = false;
+  // Deferral only for matrices of at least this many rows, those UMFPACK factorises (see
+  // klu_max_dofs): below, KLU refactorises into a spare's pivot order in about the time of a
+  // GMRES solve, and factorising every matrix took 10-12 % off three of the main job's six static
+  // halves, 1-3 % off the others (bench/README.md "Static solver"). At 2538 rows (UMFPACK)
+  // deferral still saves 3 %.
+  int krylov_min_dofs = 2000;
   int max_krylov_iterations = 24;  // about the cost of one numeric factorisation at N = 5600
   // |b - K x| <= krylov_tolerance | |K| |x| + |b| |: at 1e-14 a third of the GMRES solves at
   // N = 5600 did not get there in 24 iterations (the residual's round-off floor); the path and

@@ -26,6 +26,7 @@ namespace {
 void in_fresh_thread(const std::function<void()>& f, int max_iterations = 24) {
   std::thread worker([&f, max_iterations] {
     default_lu_reuse().krylov = true;
+    default_lu_reuse().krylov_min_dofs = 0;  // these test matrices are small
     default_lu_reuse().max_krylov_iterations = max_iterations;
     f();
   });
@@ -146,6 +147,30 @@ TEST(LuKrylov, SingularDeferredMatrixIsReported) {
       3);
 }
 
+TEST(LuKrylov, BelowTheMinimumSizeItFactorises) {
+  // krylov_min_dofs: a matrix with fewer rows is factorised at once, even with a base at hand.
+  const SparseMatrix k0 = grid_matrix(15, 3u, 4.0);
+  const SparseMatrix k = changed(k0, 7, {7, 40}, 0.8);
+  std::thread([&] {
+    default_lu_reuse().krylov = true;
+    default_lu_reuse().krylov_min_dofs = static_cast<int>(k.rows());
+    LuFactor base;
+    ASSERT_TRUE(base.factorize(k0));  // a base of that size at hand
+    default_lu_reuse().krylov_min_dofs = static_cast<int>(k.rows()) + 1;
+    const LuStatistics before = lu_statistics();
+    LuFactor lu;
+    ASSERT_TRUE(lu.factorize(k));
+    EXPECT_TRUE(lu.factorised());
+    EXPECT_EQ(lu_statistics().deferred, before.deferred);
+    EXPECT_EQ(lu_statistics().numeric, before.numeric + 1);
+    default_lu_reuse().krylov_min_dofs = static_cast<int>(k.rows());  // at the minimum: deferred
+    LuFactor at_minimum;
+    ASSERT_TRUE(at_minimum.factorize(k));
+    EXPECT_FALSE(at_minimum.factorised());
+    EXPECT_EQ(lu_statistics().deferred, before.deferred + 1);
+  }).join();
+}
+
 // LuReuse::refine off: a solve is the unrefined one (the inverse of the computed factors), counted
 // as such; the load step's reuse has it off unless SolverOptions::refine_solves.
 TEST(LuRefine, OffSolvesAreTheUnrefinedOnes) {
@@ -201,7 +226,9 @@ void expect_same_predictor(const std::string& name) {
       for (std::size_t c = 0; c < states.size(); ++c)
         if (states[c].frictional && stick[c] != ContactStatus::open)
           stick[c] = ContactStatus::stick;
-      LuReuse reuse;
+      // Deferred at any size here (periodic-n100 is below the default krylov_min_dofs).
+      default_lu_reuse().krylov_min_dofs = 0;
+      LuReuse reuse = default_lu_reuse();
       reuse.krylov = true;
       LuFactor base(reuse);
       ASSERT_TRUE(base.factorize(reduce(assemble_tangent(net, states, stick),
