@@ -170,7 +170,8 @@ bool LuFactor::factorize(const SparseMatrix& k) {
     log10_det_ = 0.0;
     return true;
   }
-  if (m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs) {
+  const bool deferrable = m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs;
+  if (deferrable) {
     for (const auto& base : base_factors())
       if (base->k.rows() == k.rows()) {
         m.preconditioner = base;  // the most recent one of this size
@@ -239,8 +240,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   log10_det_ = lu->log10_det;
   m.full = lu;
   // Kept as a base only where one can serve: held here, a KLU factor would not become a spare.
-  if (m.reuse.low_rank || (m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs))
-    remember_base(std::move(lu));
+  if (m.reuse.low_rank || deferrable) remember_base(std::move(lu));
   return true;
 }
 
