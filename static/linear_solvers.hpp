@@ -74,7 +74,7 @@ struct LuReuse {
   // preconditioned by K0's factors. K is factorised when GMRES does not reach the tolerance in
   // max_krylov_iterations, and whenever an exact operator is asked for: the determinant (sign
   // and magnitude) and solve_unrefined (the eigensolvers' operator). Takes precedence over
-  // low_rank.
+  // low_rank from krylov_min_dofs rows on.
   bool krylov = false;
   // Deferral only for matrices of at least this many rows, those UMFPACK factorises (see
   // klu_max_dofs): below, KLU refactorises into a spare's pivot order in about the time of a
