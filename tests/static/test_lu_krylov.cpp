@@ -151,8 +151,7 @@ TEST(LuKrylov, BelowTheMinimumSizeItFactorises) {
   // krylov_min_dofs: a matrix with fewer rows is factorised at once, even with a base at hand.
   const SparseMatrix k0 = grid_matrix(15, 3u, 4.0);
   const SparseMatrix k = changed(k0, 7, {7, 40}, 0.8);
-  std::thread([&] {
-    default_lu_reuse().krylov = true;
+  in_fresh_thread([&] {
     default_lu_reuse().krylov_min_dofs = static_cast<int>(k.rows());
     LuFactor base;
     ASSERT_TRUE(base.factorize(k0));  // a base of that size at hand
@@ -168,7 +167,7 @@ TEST(LuKrylov, BelowTheMinimumSizeItFactorises) {
     ASSERT_TRUE(at_minimum.factorize(k));
     EXPECT_FALSE(at_minimum.factorised());
     EXPECT_EQ(lu_statistics().deferred, before.deferred + 1);
-  }).join();
+  });
 }
 
 // LuReuse::refine off: a solve is the unrefined one (the inverse of the computed factors), counted
