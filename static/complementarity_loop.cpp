@@ -204,6 +204,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   std::vector<std::string> history;
   std::shared_ptr<LuFactor> factor;
   int lcp_rounds = 0;
+  std::string last_resolved;  // the statuses the last LCP round set
   p.failure = "iterations";
   for (int it = 0; it < options.max_status_iterations; ++it) {
     p.iterations = it + 1;
@@ -242,10 +243,19 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
         break;
       }
       p.statuses = lcp.statuses;
-      seen.clear();
-      history.clear();
       const std::string resolved(reinterpret_cast<const char*>(p.statuses.data()),
                                  p.statuses.size());
+      if (resolved == last_resolved) {
+        // The same statuses as the last round's: the iterates from them are the last round's
+        // again (the status update reads the statuses only), so is the cycle they end in, and so
+        // is the next LCP's input (slide signs and undecided contacts are set by those iterates).
+        // Every round left would repeat this one until max_lcp_rounds: stop with its failure.
+        p.failure = "cycle";
+        break;
+      }
+      last_resolved = resolved;
+      seen.clear();
+      history.clear();
       seen.emplace(resolved, 0);
       history.push_back(resolved);
     } else {
