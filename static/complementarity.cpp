@@ -102,11 +102,13 @@ LcpResult solve_lcp(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, double t
   // an enumeration of 2^15 supports took 0.67 instead of 0.48 us per support).
   std::vector<Eigen::MatrixXd> blocks(n + 1);
   std::vector<Eigen::VectorXd> rhs(n + 1), solution(n + 1);
+  std::vector<Eigen::PartialPivLU<Eigen::MatrixXd>> quick(n + 1);
   std::vector<Eigen::FullPivLU<Eigen::MatrixXd>> lus(n + 1);
   for (int k = 1; k <= n; ++k) {
     blocks[k].resize(k, k);
     rhs[k].resize(k);
     solution[k].resize(k);
+    quick[k] = Eigen::PartialPivLU<Eigen::MatrixXd>(k);
     lus[k] = Eigen::FullPivLU<Eigen::MatrixXd>(k, k);
   }
   std::vector<int> alpha;
@@ -120,18 +122,28 @@ LcpResult solve_lcp(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, double t
     Eigen::MatrixXd& maa = blocks[k];
     Eigen::VectorXd& qa = rhs[k];
     Eigen::VectorXd& la = solution[k];
-    Eigen::FullPivLU<Eigen::MatrixXd>& lu = lus[k];
     for (int a = 0; a < k; ++a) {
       qa[a] = -q[alpha[a]];
       for (int b = 0; b < k; ++b) maa(a, b) = m(alpha[a], alpha[b]);
     }
-    lu.compute(maa);
-    la = lu.solve(qa);
-    if (!lu.isInvertible()) {
-      // A continuum of candidates on this support: a particular one failing
-      // proves nothing.
-      if ((maa * la - qa).norm() <= 1e-9 * std::max(1.0, qa.norm())) singular = true;
-      continue;
+    // Partial pivoting first (2^15 supports: 18 -> 12 ms): with its pivots within 1e-6 of each
+    // other the block is far from singular and both LUs give lambda to round-off, well inside tol.
+    // Near a singular block only the full-pivot LU tells its rank (test EnumerationAgrees...).
+    Eigen::PartialPivLU<Eigen::MatrixXd>& pp = quick[k];
+    pp.compute(maa);
+    const auto pivots = pp.matrixLU().diagonal().cwiseAbs();
+    if (pivots.minCoeff() > 1e-6 * pivots.maxCoeff()) {
+      la = pp.solve(qa);
+    } else {
+      Eigen::FullPivLU<Eigen::MatrixXd>& lu = lus[k];
+      lu.compute(maa);
+      la = lu.solve(qa);
+      if (!lu.isInvertible()) {
+        // A continuum of candidates on this support: a particular one failing
+        // proves nothing.
+        if ((maa * la - qa).norm() <= 1e-9 * std::max(1.0, qa.norm())) singular = true;
+        continue;
+      }
     }
     // A negative component fails satisfies() below: skip its product with M.
     if ((la.array() < -tol).any()) continue;

@@ -4,6 +4,7 @@
 // (block principal pivoting: flip every inconsistent status at once) cycles.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <set>
 #include <vector>
 
@@ -104,6 +105,67 @@ TEST(Complementarity, PMatrixAlwaysSolvedByLemke) {
     const LcpResult r = solve_lcp(m, q);
     expect_solution(m, q, r);
   }
+}
+
+// The enumeration's reference: every support with a full-pivot LU, singular blocks that admit a
+// continuum of candidates leave the answer open.
+LcpResult::Outcome enumerated_outcome(const Eigen::MatrixXd& m, const Eigen::VectorXd& q,
+                                      double tol) {
+  const int n = static_cast<int>(q.size());
+  bool singular = false;
+  for (unsigned mask = 0; mask < (1u << n); ++mask) {
+    std::vector<int> a;
+    for (int i = 0; i < n; ++i)
+      if (mask & (1u << i)) a.push_back(i);
+    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
+    if (!a.empty()) {
+      const int k = static_cast<int>(a.size());
+      Eigen::MatrixXd maa(k, k);
+      Eigen::VectorXd qa(k);
+      for (int i = 0; i < k; ++i) {
+        qa[i] = -q[a[i]];
+        for (int j = 0; j < k; ++j) maa(i, j) = m(a[i], a[j]);
+      }
+      const Eigen::FullPivLU<Eigen::MatrixXd> lu(maa);
+      const Eigen::VectorXd la = lu.solve(qa);
+      if (!lu.isInvertible()) {
+        singular = singular || (maa * la - qa).norm() <= 1e-9 * std::max(1.0, qa.norm());
+        continue;
+      }
+      for (int i = 0; i < k; ++i) lambda[a[i]] = la[i];
+    }
+    const Eigen::VectorXd w = q + m * lambda;
+    bool ok = true;
+    for (int i = 0; i < n; ++i)
+      ok = ok && lambda[i] >= -tol && w[i] >= -tol && !(lambda[i] > tol && w[i] > tol);
+    if (ok) return LcpResult::Outcome::solved;
+  }
+  return singular ? LcpResult::Outcome::undecided : LcpResult::Outcome::no_solution;
+}
+
+TEST(Complementarity, EnumerationAgreesWithAFullPivotReference) {
+  // Small integer LCPs: many principal blocks exactly singular, which the enumeration's partial-
+  // pivot LU must hand to the full-pivot one. Every outcome as the reference's.
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> entry(-3, 3);
+  int counted[3] = {0, 0, 0};
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int n = 2 + trial % 4;
+    Eigen::MatrixXd m(n, n);
+    Eigen::VectorXd q(n);
+    for (int i = 0; i < n; ++i) {
+      q[i] = entry(rng);
+      for (int j = 0; j < n; ++j) m(i, j) = entry(rng);
+    }
+    const LcpResult r = solve_lcp(m, q);
+    const LcpResult::Outcome expected = enumerated_outcome(m, q, 1e-10);
+    ASSERT_EQ(r.outcome, expected) << "trial " << trial << " (" << r.how << ")\n"
+                                   << m << "\nq " << q.transpose();
+    if (r.outcome == LcpResult::Outcome::solved) expect_solution(m, q, r);
+    ++counted[static_cast<int>(r.outcome)];
+  }
+  // All three outcomes occur (the singular case: "lemke ray, singular principal blocks").
+  for (int c : counted) EXPECT_GT(c, 0);
 }
 
 }  // namespace
