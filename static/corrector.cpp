@@ -51,10 +51,41 @@ double relative_residual(const Network& net, const Eigen::VectorXd& r, const Res
   return worst;
 }
 
-NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
-                                const std::vector<ContactStatus>* forced,
-                                const ResidualScale& scale, const SolverOptions& options,
-                                Timings* timings) {
+namespace {
+
+// The kinks of the contact law on the segment dq + alpha step, 0 < alpha < 1, among the contacts
+// whose status differs at its ends: where the gap closes or opens (h = 0), or where the stick
+// trial force meets the cone (mu F_N = |F_T|), each linear in alpha between the ends. Ascending.
+std::vector<double> kinks(const Network& net, const Eigen::VectorXd& dq, const Eigen::VectorXd& end,
+                          const std::vector<ContactState>& at0,
+                          const std::vector<ContactState>& at1,
+                          const std::vector<ContactStatus>* forced) {
+  std::vector<double> out;
+  const auto crossing = [&out](double g0, double g1) {
+    if ((g0 > 0.0) == (g1 > 0.0) || g0 == g1) return;
+    const double alpha = g0 / (g0 - g1);
+    if (alpha > 0.0 && alpha < 1.0) out.push_back(alpha);
+  };
+  for (std::size_t c = 0; c < at0.size(); ++c) {
+    if (at0[c].status == at1[c].status) continue;
+    const bool open0 = at0[c].status == ContactStatus::open;
+    const bool open1 = at1[c].status == ContactStatus::open;
+    if (open0 || open1) {
+      crossing(at0[c].frame.h, at1[c].frame.h);
+    } else if (!forced && at0[c].frictional) {
+      const ContactState s0 = evaluate_contact(net, c, dq, ContactStatus::stick);
+      const ContactState s1 = evaluate_contact(net, c, end, ContactStatus::stick);
+      crossing(s0.mu * s0.f_n - std::abs(s0.f_t), s1.mu * s1.f_n - std::abs(s1.f_t));
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Newton from dq (newton_equilibrium), with kink_trials as set.
+NewtonResult newton_iterations(const Network& net, Eigen::VectorXd dq,
+                               const std::vector<ContactStatus>* forced, const ResidualScale& scale,
+                               const SolverOptions& options, Timings* timings) {
   NewtonResult result;
   LuFactor lu(lu_reuse(options));
   std::vector<ContactState> states = evaluate_contacts(net, dq, forced);
@@ -78,21 +109,36 @@ NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
     Eigen::VectorXd step;
     if (solve_kept(net, k, kept, r, lu, step, timings, false) != Solve::solved) break;
     // Backtracking on |R|: the law has kinks (Coulomb return, opening) that a full step may cross.
-    double alpha = 1.0;
+    // Halving alone creeps towards a kink on the tangent of its near side (the residual halves per
+    // iteration, each with an LU); so after the full step come points just past the last kinks
+    // on the way, from the farthest back, where the next tangent is the far side's.
     bool decreased = false;
-    for (int b = 0; b < 12; ++b, alpha *= 0.5) {
+    const auto accept_at = [&](double alpha, std::vector<ContactState>* kept_states) {
       const Eigen::VectorXd trial = dq + alpha * step;
       std::vector<ContactState> trial_states = evaluate_contacts(net, trial, forced);
       const Eigen::VectorXd trial_r = residual(net, trial, trial_states);
       const double trial_norm = relative_residual(net, trial_r, scale);
-      if (trial_norm < (1.0 - 1e-4 * alpha) * norm) {
-        dq = trial;
-        states = std::move(trial_states);
-        r = trial_r;
-        norm = trial_norm;
-        decreased = true;
-        break;
+      if (!(trial_norm < (1.0 - 1e-4 * alpha) * norm)) {
+        if (kept_states) *kept_states = std::move(trial_states);
+        return false;
       }
+      dq = trial;
+      states = std::move(trial_states);
+      r = trial_r;
+      norm = trial_norm;
+      decreased = true;
+      return true;
+    };
+    std::vector<ContactState> at_full;
+    if (!accept_at(1.0, &at_full)) {
+      const std::vector<double> at = options.kink_trials <= 0
+                                         ? std::vector<double>{}
+                                         : kinks(net, dq, dq + step, states, at_full, forced);
+      // Past kink i by a tenth of the way to the next one (or to the full step).
+      const std::size_t trials = static_cast<std::size_t>(std::max(options.kink_trials, 0));
+      for (std::size_t i = at.size(); i > 0 && i + trials > at.size() && !decreased; --i)
+        accept_at(at[i - 1] + 0.1 * ((i < at.size() ? at[i] : 1.0) - at[i - 1]), nullptr);
+      for (double alpha = 0.5; alpha > 4e-4 && !decreased; alpha *= 0.5) accept_at(alpha, nullptr);
     }
     if (!decreased) {
       result.converged = norm < options.stagnation_tolerance;
@@ -106,6 +152,23 @@ NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
   result.dq = dq;
   result.states = std::move(states);
   return result;
+}
+
+}  // namespace
+
+NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
+                                const std::vector<ContactStatus>* forced,
+                                const ResidualScale& scale, const SolverOptions& options,
+                                Timings* timings) {
+  if (options.kink_trials <= 0)
+    return newton_iterations(net, std::move(dq), forced, scale, options, timings);
+  NewtonResult result = newton_iterations(net, dq, forced, scale, options, timings);
+  if (result.converged) return result;
+  // A point past a kink can lead where Newton then stalls, and halving alone may still get through
+  // (series A, seed 4, K_T/K_N = 1/2: a step at q = 0.8145). A failure is final only after both.
+  SolverOptions halving = options;
+  halving.kink_trials = 0;
+  return newton_iterations(net, std::move(dq), forced, scale, halving, timings);
 }
 
 Eigen::VectorXd chord_iterations(const Network& net, const PredictorResult& p, Eigen::VectorXd dq,

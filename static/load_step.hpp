@@ -18,6 +18,9 @@ struct SolverOptions {
   // converged: round-off of K_N h at large kappa (reported in docs/static.md).
   double stagnation_tolerance = 1e-8;
   int max_newton_iterations = 40;
+  // Newton's line search, after a full step that does not decrease |R|: the points just past the
+  // last this-many kinks of the contact law on the step (0: halving only; corrector.cpp).
+  int kink_trials = 4;
   int max_status_iterations = 200;
   int max_closing_rounds = 5;
   // Relative round-off width of the discrete decisions of the complementarity loop (statuses,
