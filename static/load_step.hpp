@@ -93,8 +93,9 @@ struct NewtonResult {
   std::vector<double> residual_history;  // relative residual before each iteration
 };
 
-// Newton on R(dq) = 0 with backtracking on |R|; with forced statuses the tangential law is frozen
-// (the §S3.0 polish), otherwise it is the exact Coulomb return (the §S3.2 corrector).
+// Newton on R(dq) = 0 with a line search on |R| (past the contact law's kinks, then halving; a
+// failure is rerun with halving alone: docs/static.md §S3.2); with forced statuses the tangential
+// law is frozen (the §S3.0 polish), otherwise it is the exact Coulomb return (the §S3.2 corrector).
 NewtonResult newton_equilibrium(const Network& net, Eigen::VectorXd dq,
                                 const std::vector<ContactStatus>* forced,
                                 const ResidualScale& scale, const SolverOptions& options,
