@@ -131,11 +131,10 @@ NewtonResult newton_iterations(const Network& net, Eigen::VectorXd dq,
     };
     std::vector<ContactState> at_full;
     if (!accept_at(1.0, &at_full)) {
-      const std::vector<double> at = options.kink_trials <= 0
-                                         ? std::vector<double>{}
-                                         : kinks(net, dq, dq + step, states, at_full, forced);
-      // Past kink i by a tenth of the way to the next one (or to the full step).
       const std::size_t trials = static_cast<std::size_t>(std::max(options.kink_trials, 0));
+      const std::vector<double> at =
+          trials == 0 ? std::vector<double>{} : kinks(net, dq, dq + step, states, at_full, forced);
+      // Past kink i by a tenth of the way to the next one (or to the full step).
       for (std::size_t i = at.size(); i > 0 && i + trials > at.size() && !decreased; --i)
         accept_at(at[i - 1] + 0.1 * ((i < at.size() ? at[i] : 1.0) - at[i - 1]), nullptr);
       for (double alpha = 0.5; alpha > 4e-4 && !decreased; alpha *= 0.5) accept_at(alpha, nullptr);
