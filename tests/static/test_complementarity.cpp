@@ -107,6 +107,78 @@ TEST(Complementarity, PMatrixAlwaysSolvedByLemke) {
   }
 }
 
+// Lemke one pivot at a time over the whole tableau (the form before the batched updates), the
+// reference of the next test: lambda, or an empty vector on a ray.
+Eigen::VectorXd lemke_one_pivot_at_a_time(const Eigen::MatrixXd& m, const Eigen::VectorXd& q) {
+  const int n = static_cast<int>(q.size());
+  const int z0 = 2 * n, rhs = 2 * n + 1;
+  Eigen::MatrixXd t = Eigen::MatrixXd::Zero(n, 2 * n + 2);
+  t.leftCols(n).setIdentity();
+  t.block(0, n, n, n) = -m;
+  t.col(z0).setConstant(-1.0);
+  t.col(rhs) = q;
+  std::vector<int> basis(n);
+  for (int i = 0; i < n; ++i) basis[i] = i;
+  const auto pivot = [&](int r, int c) {
+    t.row(r) /= t(r, c);
+    for (int i = 0; i < n; ++i)
+      if (i != r && t(i, c) != 0.0) t.row(i) -= t(i, c) * t.row(r);
+    const int left = basis[r];
+    basis[r] = c;
+    return left;
+  };
+  int r0 = 0;
+  for (int i = 1; i < n; ++i)
+    if (q[i] < q[r0]) r0 = i;
+  int entering = n + r0;
+  pivot(r0, z0);
+  const double tiny = 1e-12 * std::max(1.0, t.leftCols(2 * n + 1).cwiseAbs().maxCoeff());
+  for (int it = 0; it < 50 * n + 100; ++it) {
+    int r = -1;
+    double best = 0.0;
+    for (int i = 0; i < n; ++i) {
+      if (t(i, entering) <= tiny) continue;
+      const double ratio = t(i, rhs) / t(i, entering);
+      const bool tie = r >= 0 && std::abs(ratio - best) <= 1e-12 * std::max(1.0, std::abs(best));
+      if (r < 0 || (!tie && ratio < best) || (tie && basis[i] == z0)) {
+        r = i;
+        best = ratio;
+      }
+    }
+    if (r < 0) return {};
+    const int left = pivot(r, entering);
+    if (left == z0) {
+      Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
+      for (int i = 0; i < n; ++i)
+        if (basis[i] >= n && basis[i] < 2 * n) lambda[basis[i] - n] = std::max(0.0, t(i, rhs));
+      return lambda;
+    }
+    entering = left < n ? left + n : left - n;
+  }
+  return {};
+}
+
+TEST(Complementarity, BatchedLemkeHasTheBitsOfOnePivotAtATime) {
+  // P-matrices (diagonally dominant, unsymmetric) with q mostly negative: about n pivots, so
+  // several batches of pending pivots and the ratio tests between them.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const int n : {3, 40, 150}) {
+    Eigen::MatrixXd m(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) m(i, j) = u(rng);
+    m.diagonal().array() += n;
+    Eigen::VectorXd q(n);
+    for (int i = 0; i < n; ++i) q[i] = u(rng) - 0.7;
+    const Eigen::VectorXd reference = lemke_one_pivot_at_a_time(m, q);
+    ASSERT_EQ(reference.size(), n);
+    const LcpResult r = solve_lcp(m, q);
+    ASSERT_EQ(r.how, "lemke");
+    expect_solution(m, q, r);
+    for (int i = 0; i < n; ++i) EXPECT_EQ(r.lambda[i], reference[i]) << "n " << n << ", " << i;
+  }
+}
+
 // The enumeration's reference: every support with a full-pivot LU, singular blocks that admit a
 // continuum of candidates leave the answer open.
 LcpResult::Outcome enumerated_outcome(const Eigen::MatrixXd& m, const Eigen::VectorXd& q,
