@@ -18,14 +18,6 @@ bool satisfies(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const Eigen::
   return true;
 }
 
-// Lemke's tableau [I | -M | -e | q] with its pivots applied in batches. A pivot on (r, c) divides
-// row r by t(r, c) and subtracts t(i, c) times that row from every other row i with t(i, c) != 0.
-// Each pivot used to stream the whole tableau (61 MB at 1964 contacts, N = 5600: L3 bandwidth,
-// 6 s per LCP); here a pivot only records its normalised row and its column of factors, and the
-// rows are brought up to date `batch` pivots at a time, each row then held in L1 while it takes
-// them. Every entry undergoes the same operations in the same order as with one pivot at a time,
-// so the same bits; entries read between two updates (the ratio test's columns, the pivot row)
-// apply the pending pivots on the fly.
 // row -= f * b, entry by entry: a multiply, then a subtraction (this file is compiled with
 // -ffp-contract=off, so no clone fuses them), hence the same bits at every vector width.
 [[gnu::target_clones("avx512f", "avx2", "default")]] void subtract_multiple(
@@ -33,6 +25,14 @@ bool satisfies(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const Eigen::
   for (int j = 0; j < width; ++j) row[j] -= f * b[j];
 }
 
+// Lemke's tableau [I | -M | -e | q] with its pivots applied in batches. A pivot on (r, c) divides
+// row r by t(r, c) and subtracts t(i, c) times that row from every other row i with t(i, c) != 0.
+// Applied at once, each pivot swept the whole tableau (62 MB at 1964 contacts, N = 5600); here a
+// pivot records its normalised row and its column of factors, and the rows take the pending
+// pivots `batch` at a time, each row held in L1 meanwhile (series B's LCPs 2.7 -> 1.3 s with the
+// AVX clones, N = 5600's 49 -> 27 s). Every entry undergoes the same operations in the same order
+// as with one pivot at a time, so the same bits; entries read between two batches (the ratio
+// test's columns, the pivot row) take the pending pivots on the fly.
 class LemkeTableau {
  public:
   static constexpr int batch = 16;
