@@ -203,6 +203,17 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   std::unordered_map<std::string, int> seen;  // status vector -> its index in history
   std::vector<std::string> history;
   std::shared_ptr<LuFactor> factor;
+  // Where factorisations are deferred (LuReuse::krylov_min_dofs), the iterates of a loop, which
+  // share one state and differ in the statuses of a few contacts, are low-rank updates of a
+  // recent LU when they can be (the check's first LU, at this state). The check's iterates are
+  // never deferred: its end needs the determinant, exact from an update, while a deferred K
+  // would be factorised again for it.
+  LuReuse reuse = lu_reuse(options);
+  if (reuse.krylov) {
+    reuse.krylov = !determinant;
+    reuse.low_rank = true;
+    reuse.low_rank_min_dofs = reuse.krylov_min_dofs;
+  }
   int lcp_rounds = 0;
   std::string last_resolved;  // the statuses the last LCP round set
   p.failure = "iterations";
@@ -284,7 +295,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       p.tangent = assemble_tangent(net, states, p.statuses, parts);
       p.kept = kept_dofs(net, states, p.statuses);
       if (timings) timings->assembly += seconds_since(t0);
-      factor = std::make_shared<LuFactor>(lu_reuse(options));
+      factor = std::make_shared<LuFactor>(reuse);
       solved =
           solve_kept(net, p.tangent, p.kept, r0, *factor, p.dq, timings, true, eta, &unbalanced);
     }

@@ -1,24 +1,21 @@
-// GMRES preconditioned by the LU of a nearby matrix (LuReuse::krylov): the solves of a status
-// iteration whose matrix differs from a recent factorisation in a few contacts.
+// GMRES preconditioned by a nearby matrix's exact operator (LuReuse::krylov): the solves of a
+// status iteration whose matrix differs from a recent factorisation or update in a few contacts.
 #include <cmath>
 
 #include "static/numeric_lu.hpp"
 
 namespace granstab::statics {
 
-// Right-preconditioned GMRES on K x = b (transposed: K^T x = b), M^-1 the unrefined solve with
-// the factors of another matrix, restarted when the recurrence's residual drifts from the true
-// one. Converged: |b - K x| <= tolerance | |K| |x| + |b| | (a normwise backward error, as
-// UMFPACK's refinement judges its solves componentwise), checked on the true residual. False
-// after max_iterations preconditioner solves; iterations counts them.
-bool gmres(const SparseMatrix& k, const NumericLu& m, const Eigen::VectorXd& b, bool transposed,
-           double tolerance, int max_iterations, Eigen::VectorXd& x, int& iterations) {
-  const int sys = transposed ? UMFPACK_At : UMFPACK_A;
+// The contract is in numeric_lu.hpp.
+bool gmres(const SparseMatrix& k,
+           const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& precondition,
+           const Eigen::VectorXd& b, bool transposed, double tolerance, int max_iterations,
+           Eigen::VectorXd& x, int& iterations) {
   const auto apply = [&](const SparseMatrix& a, const Eigen::VectorXd& v) {
     return transposed ? Eigen::VectorXd(a.transpose() * v) : Eigen::VectorXd(a * v);
   };
   const Eigen::Index n = b.size();
-  x = m.solve(sys, b, false);
+  x = precondition(b);
   iterations = 1;
   Eigen::MatrixXd v(n, max_iterations + 1);
   Eigen::MatrixXd h(max_iterations + 1, max_iterations);
@@ -36,7 +33,7 @@ bool gmres(const SparseMatrix& k, const NumericLu& m, const Eigen::VectorXd& b, 
     g[0] = beta;
     int j = 0;
     for (; j < cycle - 1; ++j) {
-      Eigen::VectorXd w = apply(k, m.solve(sys, v.col(j), false));
+      Eigen::VectorXd w = apply(k, precondition(v.col(j)));
       ++iterations;
       // Classical Gram-Schmidt, twice: as stable as the modified one, in matrix-vector products.
       for (int pass = 0; pass < 2; ++pass) {
@@ -74,7 +71,7 @@ bool gmres(const SparseMatrix& k, const NumericLu& m, const Eigen::VectorXd& b, 
     }
     if (j == cycle - 1 && std::abs(g[j]) > 0.5 * target) return false;
     const Eigen::VectorXd y = h.topLeftCorner(j, j).triangularView<Eigen::Upper>().solve(g.head(j));
-    x += m.solve(sys, v.leftCols(j) * y, false);
+    x += precondition(v.leftCols(j) * y);
     ++iterations;
   }
 }

@@ -9,6 +9,7 @@
 #include <ctime>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 #ifdef __GLIBC__
@@ -104,6 +105,33 @@ void remember_base(std::shared_ptr<const NumericLu> lu) {
   if (bases.size() > capacity) bases.pop_back();
 }
 
+// The exact operator of a recent factorisation or low-rank update: the preconditioner of a
+// deferred factorisation.
+struct RecentOperator {
+  std::shared_ptr<const NumericLu> full;
+  std::shared_ptr<const LowRankUpdate> update;
+  Eigen::Index rows() const { return update ? update->base->k.rows() : full->k.rows(); }
+  Eigen::VectorXd apply(const Eigen::VectorXd& v, bool transposed) const {
+    return update ? update->apply(v, transposed)
+                  : full->solve(transposed ? UMFPACK_At : UMFPACK_A, v, false);
+  }
+};
+
+// This thread's recent operators, the latest first: a deferred factorisation is preconditioned by
+// the latest of its size (after a stability check, its last iterate's update: the statuses the
+// next load step starts from).
+std::vector<RecentOperator>& recent_operators() {
+  thread_local std::vector<RecentOperator> recent;
+  return recent;
+}
+
+void remember_operator(RecentOperator op) {
+  constexpr std::size_t capacity = 3;
+  auto& recent = recent_operators();
+  recent.insert(recent.begin(), std::move(op));
+  if (recent.size() > capacity) recent.pop_back();
+}
+
 }  // namespace
 
 LuReuse& default_lu_reuse() {
@@ -113,6 +141,7 @@ LuReuse& default_lu_reuse() {
 
 void forget_factorisations() {
   base_factors().clear();
+  recent_operators().clear();
   forget_klu_analyses();
 }
 
@@ -123,11 +152,11 @@ LuStatistics& lu_statistics() {
 
 struct LuFactor::Impl {
   LuReuse reuse;
-  std::shared_ptr<const NumericLu> full;  // the factorisation of k itself
-  std::unique_ptr<LowRankUpdate> update;  // or a low-rank update of a base factorisation
-  SparseMatrix k;                         // k, for the refinement of updated solves and for GMRES
-  // Deferred factorisation (LuReuse::krylov): GMRES on k preconditioned by this factorisation.
-  std::shared_ptr<const NumericLu> preconditioner;
+  std::shared_ptr<const NumericLu> full;        // the factorisation of k itself
+  std::shared_ptr<const LowRankUpdate> update;  // or a low-rank update of a base factorisation
+  SparseMatrix k;  // k, for the refinement of updated solves and for GMRES
+  // Deferred factorisation (LuReuse::krylov): GMRES on k preconditioned by this operator.
+  std::optional<RecentOperator> preconditioner;
   bool deferred = false;
   bool singular = false;  // the deferred factorisation found k singular
 };
@@ -171,21 +200,8 @@ bool LuFactor::factorize(const SparseMatrix& k) {
     return true;
   }
   const bool deferrable = m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs;
-  if (deferrable) {
-    for (const auto& base : base_factors())
-      if (base->k.rows() == k.rows()) {
-        m.preconditioner = base;  // the most recent one of this size
-        break;
-      }
-    if (m.preconditioner) {
-      m.k = k;
-      m.k.makeCompressed();
-      m.deferred = true;
-      symbolic_reused_ = true;
-      ++lu_statistics().deferred;
-      return true;
-    }
-  } else if (m.reuse.low_rank) {
+  const bool updatable = m.reuse.low_rank && k.rows() >= m.reuse.low_rank_min_dofs;
+  if (updatable) {
     SparseMatrix kc = k;
     kc.makeCompressed();
     // The recent factorisation from which k differs in the fewest columns.
@@ -229,6 +245,22 @@ bool LuFactor::factorize(const SparseMatrix& k) {
       m.k = std::move(kc);
       det_sign_ = sign;
       log10_det_ = log10_det;
+      remember_operator({nullptr, m.update});
+      return true;
+    }
+  }
+  if (deferrable) {
+    for (const RecentOperator& op : recent_operators())
+      if (op.rows() == k.rows()) {
+        m.preconditioner = op;  // the most recent one of this size
+        break;
+      }
+    if (m.preconditioner) {
+      m.k = k;
+      m.k.makeCompressed();
+      m.deferred = true;
+      symbolic_reused_ = true;
+      ++lu_statistics().deferred;
       return true;
     }
   }
@@ -240,7 +272,10 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   log10_det_ = lu->log10_det;
   m.full = lu;
   // Kept as a base only where one can serve: held here, a KLU factor would not become a spare.
-  if (m.reuse.low_rank || deferrable) remember_base(std::move(lu));
+  if (updatable || deferrable) {
+    remember_operator({lu, nullptr});
+    remember_base(std::move(lu));
+  }
   return true;
 }
 
@@ -262,6 +297,7 @@ bool LuFactor::factorise_deferred() const {
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
   m.full = lu;
+  remember_operator({lu, nullptr});
   remember_base(std::move(lu));
   return true;
 }
@@ -280,12 +316,15 @@ bool LuFactor::factorised() const { return !impl_->deferred; }
 
 namespace {
 // GMRES with the deferred factorisation's preconditioner; false when over the bound.
-bool krylov_solve(const SparseMatrix& k, const NumericLu& preconditioner, const LuReuse& reuse,
+bool krylov_solve(const SparseMatrix& k, const RecentOperator& preconditioner, const LuReuse& reuse,
                   const Eigen::VectorXd& b, bool transposed, Eigen::VectorXd& x) {
   LuStatistics& statistics = lu_statistics();
   const double t0 = thread_seconds();
   int iterations = 0;
-  const bool converged = gmres(k, preconditioner, b, transposed, reuse.krylov_tolerance,
+  const auto precondition = [&](const Eigen::VectorXd& v) {
+    return preconditioner.apply(v, transposed);
+  };
+  const bool converged = gmres(k, precondition, b, transposed, reuse.krylov_tolerance,
                                reuse.max_krylov_iterations, x, iterations);
   const double seconds = thread_seconds() - t0;
   statistics.krylov_seconds += seconds;

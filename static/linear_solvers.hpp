@@ -64,17 +64,17 @@ struct LuReuse {
   // (status changes of a few contacts inside a complementarity loop) is written K = K0 + U V^T
   // (rank-revealing QR of the changed block) and solved by the Woodbury formula with K0's factor,
   // plus one step of iterative refinement against K; det K = det K0 det(I + V^T K0^-1 U), so the
-  // determinant sign stays exact.
+  // determinant sign stays exact. Tried before deferral (krylov) when both are on.
   bool low_rank = false;
-  int max_columns = 96;  // changed columns beyond which K is factorised afresh
-  int max_rank = 40;     // rank of U V^T beyond which K is factorised afresh (r solves with K0)
-  // Deferred factorisation: a matrix of the size of a recent full factorisation K0 of this thread
-  // (a complementarity loop changes a few contact blocks, the corrector and the next state's
-  // check O(dq) of the geometry) is not factorised; its solves run GMRES on K itself, right-
-  // preconditioned by K0's factors. K is factorised when GMRES does not reach the tolerance in
-  // max_krylov_iterations, and whenever an exact operator is asked for: the determinant (sign
-  // and magnitude) and solve_unrefined (the eigensolvers' operator). Takes precedence over
-  // low_rank from krylov_min_dofs rows on.
+  int low_rank_min_dofs = 0;  // updates only for matrices of at least this many rows
+  int max_columns = 96;       // changed columns beyond which K is not updated
+  int max_rank = 40;          // rank of U V^T beyond which K is not updated (r solves with K0)
+  // Deferred factorisation: a matrix of the size of a recent full factorisation or update K0 of
+  // this thread (a complementarity loop changes a few contact blocks, the corrector O(dq) of the
+  // geometry) is not factorised; its solves run GMRES on K itself, right-preconditioned by K0's
+  // exact operator (the latest one of the size). K is factorised when GMRES does not reach the
+  // tolerance in max_krylov_iterations, and whenever an exact operator is asked for: the
+  // determinant (sign and magnitude) and solve_unrefined (the eigensolvers' operator).
   bool krylov = false;
   // Deferral only for matrices of at least this many rows, those UMFPACK factorises (see
   // klu_max_dofs): below, KLU refactorises into a spare's pivot order in about the time of a

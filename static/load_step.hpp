@@ -54,12 +54,12 @@ struct SolverOptions {
   // above the rigid limit of the start network and makes it depend on the ordering again
   // (docs/static.md, "Rattlers closed on by the cage").
   bool push_rattlers = false;
-  // The solves of a complementarity loop and of the corrector by GMRES preconditioned with the
-  // latest LU of the thread instead of a new LU each (LuReuse::krylov); the check's determinant
-  // sign and negative-eigenvalue count still factorise K exactly; matrices below
-  // LuReuse::krylov_min_dofs are factorised (KLU's refactorisations are cheaper there). Same
-  // path and q1 on the shipped samples; q1 at N = 5600 1028 -> 457 LU factorisations,
-  // 142.6 -> 124.1 s CPU (docs/static.md, Performance).
+  // Instead of a new LU per matrix: in a complementarity loop, low-rank updates of the check's LU
+  // (LuReuse::low_rank); otherwise, in the loops and the corrector, GMRES preconditioned with the
+  // latest LU or update of the thread (LuReuse::krylov). The check's determinant sign and
+  // negative-eigenvalue count use an LU or an update, both exact. Matrices below
+  // LuReuse::krylov_min_dofs are factorised (KLU's refactorisations are cheaper there).
+  // docs/static.md, Performance.
   bool krylov_solves = true;
   // UMFPACK's iterative refinement in the solves of the load step and of the check that are made
   // with an LU of the matrix itself (LuReuse::refine; GMRES and the eigenvalue count never refine).

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -185,12 +186,15 @@ bool factorize_klu(NumericLu& lu, bool& reused);
 // takes no pivot order from an earlier one (forget_factorisations).
 void forget_klu_analyses();
 
-// Right-preconditioned GMRES on K x = b (transposed: K^T x = b), M^-1 the unrefined solve with
-// the factors of another matrix, restarted when the recurrence's residual drifts from the true
-// one. Converged: |b - K x| <= tolerance | |K| |x| + |b| | (a normwise backward error, as
-// UMFPACK's refinement judges its solves componentwise), checked on the true residual. False
-// after max_iterations preconditioner solves; iterations counts them.
-bool gmres(const SparseMatrix& k, const NumericLu& m, const Eigen::VectorXd& b, bool transposed,
-           double tolerance, int max_iterations, Eigen::VectorXd& x, int& iterations);
+// Right-preconditioned GMRES on K x = b (transposed: K^T x = b), precondition(v) = M^-1 v
+// (transposed: M^-T v) the unrefined solve with another matrix (a recent LU, or a low-rank update
+// of one), restarted when the recurrence's residual drifts from the true one. Converged:
+// |b - K x| <= tolerance (|K| |x| + |b|) (a normwise backward error, as UMFPACK's refinement
+// judges its solves componentwise), checked on the true residual. False after max_iterations
+// preconditioner solves; iterations counts them.
+bool gmres(const SparseMatrix& k,
+           const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& precondition,
+           const Eigen::VectorXd& b, bool transposed, double tolerance, int max_iterations,
+           Eigen::VectorXd& x, int& iterations);
 
 }  // namespace granstab::statics
