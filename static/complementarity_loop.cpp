@@ -205,15 +205,18 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   std::shared_ptr<LuFactor> factor;
   // Where factorisations are deferred (LuReuse::krylov_min_dofs), the iterates of a loop, which
   // share one state and differ in the statuses of a few contacts, are low-rank updates of a
-  // recent LU when they can be (the check's first LU, at this state). The check's iterates are
-  // never deferred: its end needs the determinant, exact from an update, while a deferred K
-  // would be factorised again for it.
+  // recent LU when they can be (the check's first LU, at this state), deferred otherwise. The
+  // check's first iterate is factorised: its determinant (exact from an update too) is wanted,
+  // and GMRES preconditioned by the last state's LU mostly failed on it.
   LuReuse reuse = lu_reuse(options);
+  LuReuse first = reuse;  // the loop's first factorisation
   if (reuse.krylov) {
-    reuse.krylov = !determinant;
     reuse.low_rank = true;
     reuse.low_rank_min_dofs = reuse.krylov_min_dofs;
+    first = reuse;
+    first.krylov = !determinant;
   }
+  bool factorised_once = false;
   int lcp_rounds = 0;
   std::string last_resolved;  // the statuses the last LCP round set
   p.failure = "iterations";
@@ -295,7 +298,8 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       p.tangent = assemble_tangent(net, states, p.statuses, parts);
       p.kept = kept_dofs(net, states, p.statuses);
       if (timings) timings->assembly += seconds_since(t0);
-      factor = std::make_shared<LuFactor>(reuse);
+      factor = std::make_shared<LuFactor>(factorised_once ? reuse : first);
+      factorised_once = true;
       solved =
           solve_kept(net, p.tangent, p.kept, r0, *factor, p.dq, timings, true, eta, &unbalanced);
     }
