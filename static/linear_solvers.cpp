@@ -132,6 +132,12 @@ void remember_operator(RecentOperator op) {
   if (recent.size() > capacity) recent.pop_back();
 }
 
+// A full factorisation: a base of updates and a preconditioner both.
+void remember_factorisation(const std::shared_ptr<const NumericLu>& lu) {
+  remember_operator({lu, nullptr});
+  remember_base(lu);
+}
+
 }  // namespace
 
 LuReuse& default_lu_reuse() {
@@ -272,10 +278,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   log10_det_ = lu->log10_det;
   m.full = lu;
   // Kept as a base only where one can serve: held here, a KLU factor would not become a spare.
-  if (updatable || deferrable) {
-    remember_operator({lu, nullptr});
-    remember_base(std::move(lu));
-  }
+  if (updatable || deferrable) remember_factorisation(lu);
   return true;
 }
 
@@ -297,8 +300,7 @@ bool LuFactor::factorise_deferred() const {
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
   m.full = lu;
-  remember_operator({lu, nullptr});
-  remember_base(std::move(lu));
+  remember_factorisation(lu);
   return true;
 }
 
