@@ -46,15 +46,28 @@ template <bool Crossing>
   row.torque += f.torque_i;
 }
 
+// A closed pair's share of the block's stress sums (branch vector dx, dy).
+[[gnu::always_inline]] inline void add_stress(BlockSums& sums, const PairForce& f, double dx,
+                                              double dy) {
+  sums.sigma[0] += f.fx * dx;
+  sums.sigma[1] += f.fx * dy;
+  sums.sigma[2] += f.fy * dx;
+  sums.sigma[3] += f.fy * dy;
+  sums.sigma_viscous[0] += f.fvx * dx;
+  sums.sigma_viscous[1] += f.fvy * dy;
+}
+
 // Scratch of the SIMD kernel for one range of pairs (per thread; grown as needed).
 struct KernelScratch {
   std::vector<std::uint8_t> closed;
   std::vector<double> fx, fy, fvx, fvy, torque_i, torque_j;
+  std::vector<std::int32_t> touched;
   simd::PairBlock view(DiskArrays& d, PairState& pairs, const ForceInputs& in, int count) {
     const std::size_t n = static_cast<std::size_t>(count) + simd::lanes - 1;
     if (closed.size() < n) {
       closed.resize(n);
       for (auto* v : {&fx, &fy, &fvx, &fvy, &torque_i, &torque_j}) v->resize(n);
+      touched.resize(n + 1);  // the kernel stores whole vectors of 8 from any count <= count
     }
     simd::PairBlock v;
     v.x = d.x.data();
@@ -81,6 +94,7 @@ struct KernelScratch {
     v.fvy = fvy.data();
     v.torque_i = torque_i.data();
     v.torque_j = torque_j.data();
+    v.touched = touched.data();
     return v;
   }
 };
@@ -232,20 +246,67 @@ template <bool Periodic, Sweep How>
 }
 
 // With Sweep::step_simd, the kernel's distance tests and laws of the pairs [begin, end) of s
-// (before the sweep reads them from its scratch).
+// (before the sweep reads them from its scratch); `touched`: how many it listed.
 template <Sweep How>
 [[gnu::always_inline]] inline simd::PairBlock run_kernel(DiskArrays& d, PairState& s,
                                                          const ForceInputs& in, const PassInputs& a,
-                                                         int begin, int end) {
+                                                         int begin, int end, int& touched) {
   [[maybe_unused]] simd::PairBlock kernel{};
+  touched = 0;
   if constexpr (How == Sweep::step_simd) {
     thread_local KernelScratch scratch;
     kernel = scratch.view(d, s, in, end - begin);
     // A copy: a's address must not escape, or GCC reloads its members after every store.
     const PairLawConstants k = a.k;
-    simd::pair_law(kernel, k, in.periodic, a.l1, a.l2, begin, end);
+    touched = simd::pair_law(kernel, k, in.periodic, a.l1, a.l2, begin, end);
   }
   return kernel;
+}
+
+// The SIMD sweep of the pairs [range_begin, range_end) that the kernel listed as touched
+// (closed before or after the step), in list order: each adds to j's sum and subtracts from
+// i's in memory. Row by row in ascending i, with j > i, these are the additions of
+// pair_forces' scalar sweep in the same order (i's column part first, then its row), so the
+// same bits; without a branch per listed pair or per row (mispredicted: a row lists 3-4
+// pairs, about half of them closed).
+template <bool Crossing, bool Periodic>
+[[gnu::always_inline]] inline void touched_pair_forces(DiskArrays& d, PairArrays& pairs,
+                                                       const PassInputs& a,
+                                                       const simd::PairBlock& kernel, int touched,
+                                                       int range_begin, int& next_closed,
+                                                       int& next_opened, BlockSums& sums) {
+  const std::int32_t* const pair_i = pairs.i.data();
+  const std::int32_t* const pair_j = pairs.j.data();
+  double* const fx = d.fx.data();
+  double* const fy = d.fy.data();
+  double* const fvx = d.fvx.data();
+  double* const fvy = d.fvy.data();
+  double* const torque = d.torque.data();
+  for (int t = 0; t < touched; ++t) {
+    const int k = kernel.touched[t];
+    const int p = range_begin + k;
+    const int i = pair_i[p], j = pair_j[p];
+    PairForce f{};  // (GCC cannot tell that pair_force sets it: the pair is touched)
+    double dx = 0.0, dy = 0.0;
+    const bool closed = (kernel.closed[k] & simd::closed_now) != 0;
+    if (closed) {
+      pairs.active[next_closed++] = p;
+      dx = pairs.lx[p];
+      dy = pairs.ly[p];
+      f = {kernel.fx[k],  kernel.fy[k],       kernel.fvx[k],
+           kernel.fvy[k], kernel.torque_i[k], kernel.torque_j[k]};
+    } else {  // opened during the step (rare)
+      pair_force<Periodic, Sweep::step_simd>(pairs, p, j, RowDisk(a, i), a, kernel, range_begin,
+                                             next_closed, next_opened, f, dx, dy);
+    }
+    if (!Crossing || !pairs.crossing[p]) add_to_j(d, j, f);
+    fx[i] -= f.fx;
+    fy[i] -= f.fy;
+    fvx[i] -= f.fvx;
+    fvy[i] -= f.fvy;
+    torque[i] += f.torque_i;
+    if (closed) add_stress(sums, f, dx, dy);
+  }
 }
 
 // The pairs (rows) of the disks [first, end) of block b, added to both disks as they go (a
@@ -263,33 +324,33 @@ template <bool Crossing, bool Periodic, Sweep How>
   const std::int32_t* const pair_j = pairs.j.data();
   const int range_begin = row_start[first], range_end = row_start[end];
   int next_closed = range_begin, next_opened = range_end;
-  const simd::PairBlock kernel = run_kernel<How>(d, pairs, in, a, range_begin, range_end);
-  for (int i = first; i < end; ++i) {
-    const RowDisk di(a, i);
-    // The column part of i's sums (pairs where i is j) is complete: those rows came first.
-    RowSums row{d.fx[i], d.fy[i], d.fvx[i], d.fvy[i], d.torque[i]};
-    const int row_end = row_start[i + 1];
-    for (int p = row_start[i]; p < row_end; ++p) {
-      const int j = pair_j[p];
-      PairForce f;
-      double dx, dy;
-      const Outcome o = pair_force<Periodic, How>(pairs, p, j, di, a, kernel, range_begin,
-                                                  next_closed, next_opened, f, dx, dy);
-      if (o == Outcome::open) continue;
-      add_pair<Crossing>(d, pairs, p, j, f, row);
-      if (o == Outcome::opened) continue;
-      sums.sigma[0] += f.fx * dx;
-      sums.sigma[1] += f.fx * dy;
-      sums.sigma[2] += f.fy * dx;
-      sums.sigma[3] += f.fy * dy;
-      sums.sigma_viscous[0] += f.fvx * dx;
-      sums.sigma_viscous[1] += f.fvy * dy;
+  int touched;
+  const simd::PairBlock kernel = run_kernel<How>(d, pairs, in, a, range_begin, range_end, touched);
+  if constexpr (How == Sweep::step_simd) {
+    touched_pair_forces<Crossing, Periodic>(d, pairs, a, kernel, touched, range_begin, next_closed,
+                                            next_opened, sums);
+  } else {
+    for (int i = first; i < end; ++i) {
+      const RowDisk di(a, i);
+      // The column part of i's sums (pairs where i is j) is complete: those rows came first.
+      RowSums row{d.fx[i], d.fy[i], d.fvx[i], d.fvy[i], d.torque[i]};
+      const int row_end = row_start[i + 1];
+      for (int p = row_start[i]; p < row_end; ++p) {
+        const int j = pair_j[p];
+        PairForce f;
+        double dx, dy;
+        const Outcome o = pair_force<Periodic, How>(pairs, p, j, di, a, kernel, range_begin,
+                                                    next_closed, next_opened, f, dx, dy);
+        if (o == Outcome::open) continue;
+        add_pair<Crossing>(d, pairs, p, j, f, row);
+        if (o == Outcome::closed) add_stress(sums, f, dx, dy);
+      }
+      d.fx[i] = row.fx;
+      d.fy[i] = row.fy;
+      d.fvx[i] = row.fvx;
+      d.fvy[i] = row.fvy;
+      d.torque[i] = row.torque;
     }
-    d.fx[i] = row.fx;
-    d.fy[i] = row.fy;
-    d.fvx[i] = row.fvx;
-    d.fvy[i] = row.fvy;
-    d.torque[i] = row.torque;
   }
   pairs.block_closed[b] = next_closed - range_begin;
   pairs.block_opened[b] = range_end - next_opened;
@@ -306,7 +367,8 @@ template <bool Periodic, Sweep How>
   int next_closed = begin, next_opened = end;
   if (begin < end) {
     const PassInputs a(d, in);
-    const simd::PairBlock kernel = run_kernel<How>(d, m, in, a, begin, end);
+    int touched;
+    const simd::PairBlock kernel = run_kernel<How>(d, m, in, a, begin, end, touched);
     for (int p = begin; p < end; ++p) {
       const RowDisk di(a, m.i[p]);
       const int j = m.j[p];

@@ -13,9 +13,11 @@ namespace granstab::dynamic::simd {
 namespace {
 
 template <bool Periodic>
-void pair_law(const PairBlock& b, const PairLawConstants& k, double l1, double l2, int begin,
-              int end) {
+int pair_law(const PairBlock& b, const PairLawConstants& k, double l1, double l2, int begin,
+             int end) {
   const double half_l1 = 0.5 * l1, half_l2 = 0.5 * l2;
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  int touched = 0;
   for (int p = begin; p < end; p += lanes) {
     const int s = p - begin;
     const int left = end - p;
@@ -53,6 +55,13 @@ void pair_law(const PairBlock& b, const PairLawConstants& k, double l1, double l
     _mm_storel_epi64(reinterpret_cast<__m128i*>(b.closed + s),
                      _mm_or_si128(_mm_maskz_set1_epi8(closed.m, closed_now),
                                   _mm_maskz_set1_epi8(closed_before.m, was_closed)));
+    // Compressed in a register and stored whole (the scratch is padded): a compressing store
+    // to memory is far slower on Intel cores.
+    const __mmask8 touched_lanes = closed.m | closed_before.m;
+    _mm256_storeu_si256(
+        reinterpret_cast<__m256i*>(b.touched + touched),
+        _mm256_maskz_compress_epi32(touched_lanes, _mm256_add_epi32(lane, _mm256_set1_epi32(s))));
+    touched += __builtin_popcount(touched_lanes);
     if (closed.m == 0) continue;
     const auto keep_state = [&](Double8 delta_t, Double8 f_n, Double8 nx, Double8 ny) {
       _mm512_mask_storeu_pd(b.delta_t + p, closed.m, delta_t.v);
@@ -74,22 +83,22 @@ void pair_law(const PairBlock& b, const PairLawConstants& k, double l1, double l
     _mm512_storeu_pd(b.torque_i + s, c.torque_i.v);
     _mm512_storeu_pd(b.torque_j + s, c.torque_j.v);
   }
+  return touched;
 }
 
 }  // namespace
 
-void pair_law(const PairBlock& b, const PairLawConstants& k, bool periodic, double l1, double l2,
-              int begin, int end) {
-  if (periodic) {
-    pair_law<true>(b, k, l1, l2, begin, end);
-  } else {
-    pair_law<false>(b, k, l1, l2, begin, end);
-  }
+int pair_law(const PairBlock& b, const PairLawConstants& k, bool periodic, double l1, double l2,
+             int begin, int end) {
+  return periodic ? pair_law<true>(b, k, l1, l2, begin, end)
+                  : pair_law<false>(b, k, l1, l2, begin, end);
 }
 
 }  // namespace granstab::dynamic::simd
 #else
 namespace granstab::dynamic::simd {
-void pair_law(const PairBlock&, const PairLawConstants&, bool, double, double, int, int) {}
+int pair_law(const PairBlock&, const PairLawConstants&, bool, double, double, int, int) {
+  return 0;
+}
 }  // namespace granstab::dynamic::simd
 #endif

@@ -26,13 +26,17 @@ struct PairBlock {
   // (closed_now, was_closed: f_n > 0 before the step), and for closed pairs their force of i on j.
   std::uint8_t* closed;
   double *fx, *fy, *fvx, *fvy, *torque_i, *torque_j;
+  // The indices (from the first pair) of the pairs closed before or after the step, in order:
+  // the only ones the sweep adds, which then needs no branch per listed pair.
+  std::int32_t* touched;
 };
 
 inline constexpr int lanes = 8;
 inline constexpr std::uint8_t closed_now = 1, was_closed = 2;  // PairBlock::closed
 
-// Pairs [begin, end) of the lists. (Not x86-64: a stub that is never called.)
-void pair_law(const PairBlock& b, const PairLawConstants& k, bool periodic, double l1, double l2,
-              int begin, int end);
+// Pairs [begin, end) of the lists; returns the number of touched pairs. (Not x86-64: a stub
+// that is never called.)
+int pair_law(const PairBlock& b, const PairLawConstants& k, bool periodic, double l1, double l2,
+             int begin, int end);
 
 }  // namespace granstab::dynamic::simd
