@@ -104,6 +104,34 @@ class LemkeTableau {
   int count_ = 0;
 };
 
+// M_aa and -q_a of the support a (maa, qa sized |a|).
+void principal_block(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const std::vector<int>& a,
+                     Eigen::MatrixXd& maa, Eigen::VectorXd& qa) {
+  const int k = static_cast<int>(a.size());
+  for (int c = 0; c < k; ++c) {
+    qa[c] = -q[a[c]];
+    for (int r = 0; r < k; ++r) maa(r, c) = m(a[r], a[c]);
+  }
+}
+
+// lambda with M_aa lambda_a = -q_a on the support a and 0 elsewhere; false where M_aa is
+// singular to the partial-pivot LU's eye.
+bool on_support(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const std::vector<int>& a,
+                Eigen::VectorXd& lambda) {
+  const int k = static_cast<int>(a.size());
+  lambda.setZero();
+  if (k == 0) return true;
+  Eigen::MatrixXd maa(k, k);
+  Eigen::VectorXd qa(k);
+  principal_block(m, q, a, maa, qa);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(maa);
+  const auto pivots = lu.matrixLU().diagonal().cwiseAbs();
+  if (!(pivots.minCoeff() > 1e-12 * pivots.maxCoeff())) return false;
+  const Eigen::VectorXd la = lu.solve(qa);
+  for (int c = 0; c < k; ++c) lambda[a[c]] = la[c];
+  return true;
+}
+
 // Lemke's method on the tableau [I | -M | -e | q] (variables w, z, z0). Returns
 // true with lambda when z0 leaves the basis; false on a secondary ray or the
 // iteration cap.
@@ -159,7 +187,7 @@ bool lemke(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, Eigen::VectorXd& 
 }  // namespace
 
 LcpResult solve_lcp(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, double tol,
-                    int max_enumerated) {
+                    int max_enumerated, const std::vector<int>* support_guess) {
   LcpResult result;
   const int n = static_cast<int>(q.size());
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n), w;
@@ -168,6 +196,14 @@ LcpResult solve_lcp(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, double t
     result.lambda = lambda;
     result.w = w;
     result.how = "trivial";
+    return result;
+  }
+  if (support_guess && on_support(m, q, *support_guess, lambda) &&
+      satisfies(m, q, lambda, tol, w)) {
+    result.outcome = LcpResult::Outcome::solved;
+    result.lambda = lambda.cwiseMax(0.0);
+    result.w = w;
+    result.how = "warm start";
     return result;
   }
   if (lemke(m, q, lambda) && satisfies(m, q, lambda, tol, w)) {
@@ -206,10 +242,7 @@ LcpResult solve_lcp(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, double t
     Eigen::MatrixXd& maa = blocks[k];
     Eigen::VectorXd& qa = rhs[k];
     Eigen::VectorXd& la = solution[k];
-    for (int a = 0; a < k; ++a) {
-      qa[a] = -q[alpha[a]];
-      for (int b = 0; b < k; ++b) maa(a, b) = m(alpha[a], alpha[b]);
-    }
+    principal_block(m, q, alpha, maa, qa);
     // Partial pivoting first (2^15 supports: 18 -> 12 ms): with its pivots within 1e-6 of each
     // other the block is far from singular and both LUs give lambda to round-off, well inside tol.
     // Near a singular block only the full-pivot LU tells its rank (test EnumerationAgrees...).

@@ -7,6 +7,7 @@
 // is such an LCP on the Schur complement of the tangent (docs/static.md,
 // "Existence of a consistent status set").
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -30,8 +31,10 @@ struct LcpResult {
 // ray, which proves nothing for a general M, every principal basis is
 // enumerated when n <= max_enumerated (2^n small dense solves). tol is the
 // absolute tolerance on lambda and w (the caller scales the problem to O(1)
-// entries).
+// entries). support_guess (optional): the indices of a likely support of lambda; where
+// M_aa lambda_a = -q_a on it gives a solution, that is the answer ("warm start": one dense LU
+// instead of Lemke's pivots), else Lemke runs as without it.
 LcpResult solve_lcp(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, double tol = 1e-10,
-                    int max_enumerated = 16);
+                    int max_enumerated = 16, const std::vector<int>* support_guess = nullptr);
 
 }  // namespace granstab::statics

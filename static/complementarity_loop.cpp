@@ -73,6 +73,18 @@ ContactStatus next_status(const ContactState& s, bool critical, ContactStatus cu
   return k_t_lambda < -tau ? ContactStatus::stick : current;
 }
 
+// The sliding contacts of the last solved LCP over many contacts, as a guess of the next one's
+// support: a step cut back repeats the wide LCP of a status cycle from the same state (n = 2241
+// five times on the N = 5600 path), which Lemke solved from scratch each time (~7 s).
+// Forgotten at the start of every run (forget_lcp_supports), so that the bits of a run do not
+// depend on the runs before it in this thread.
+struct LcpSupportMemory {
+  std::size_t contacts = 0;  // the network's contact count when it was set
+  std::vector<char> sliding;
+};
+thread_local LcpSupportMemory lcp_memory;
+constexpr int lcp_warm_min = 256;  // below, Lemke takes milliseconds
+
 struct LcpResolution {
   LcpResult::Outcome outcome = LcpResult::Outcome::undecided;
   std::vector<ContactStatus> statuses;
@@ -160,7 +172,20 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
   m.diagonal().array() += k_t;
   // O(1) entries: lambda in units of q_scale / K_T.
   const double q_scale = std::max(q.cwiseAbs().maxCoeff(), 1e-300);
-  const LcpResult lcp = solve_lcp(m / k_t, q / q_scale, options.decision_tolerance, max_enumerated);
+  // The guess: the last wide LCP's sliding set, where it was over these contacts.
+  const bool wide = n >= lcp_warm_min;
+  const bool remembered = wide && lcp_memory.contacts == states.size();
+  std::vector<int> guess;
+  for (int a = 0; remembered && a < n; ++a)
+    if (lcp_memory.sliding[u[a]]) guess.push_back(a);
+  const LcpResult lcp = solve_lcp(m / k_t, q / q_scale, options.decision_tolerance, max_enumerated,
+                                  remembered ? &guess : nullptr);
+  if (wide && lcp.outcome == LcpResult::Outcome::solved) {
+    lcp_memory.contacts = states.size();
+    lcp_memory.sliding.assign(states.size(), 0);
+    for (int a = 0; a < n; ++a)
+      lcp_memory.sliding[u[a]] = lcp.lambda[a] > options.decision_tolerance;
+  }
   out.how = lcp.how + " over " + std::to_string(n) + " contacts";
   out.outcome = lcp.outcome;
   if (lcp.outcome == LcpResult::Outcome::no_solution && pinned_touched) {
@@ -175,6 +200,8 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
 }
 
 }  // namespace
+
+void forget_lcp_supports() { lcp_memory = {}; }
 
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings,
                         const Eigen::VectorXd* rhs, const PredictorResult* warm, bool determinant) {

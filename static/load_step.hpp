@@ -138,6 +138,10 @@ PredictorResult predict(const Network& net, const SolverOptions& options,
                         Timings* timings = nullptr, const Eigen::VectorXd* rhs = nullptr,
                         const PredictorResult* warm = nullptr, bool determinant = true);
 
+// The status cycles' LCPs over many contacts start from the last one's sliding set (a guess that
+// Lemke replaces where it fails); a run forgets it first, as it forgets its factorisations.
+void forget_lcp_supports();
+
 struct StepResult {
   bool ok = false;
   std::string failure;

@@ -317,9 +317,11 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     throw std::invalid_argument("Q1Options: need 0 < dq_min <= dq");
   StabilityResult result;
   result.step_control = options.steps;
-  // Deferred factorisations are preconditioned by earlier ones: start every run from none, so
-  // that a run gives the same bits whatever ran before it in this thread.
+  // Deferred factorisations are preconditioned by earlier ones, wide LCPs start from an earlier
+  // support: start every run from none, so that a run gives the same bits whatever ran before
+  // it in this thread.
   forget_factorisations();
+  forget_lcp_supports();
   path(net, lambda0);
   result.polish = polish_start(net, options.solver);
   double lambda = lambda0;

@@ -107,6 +107,46 @@ TEST(Complementarity, PMatrixAlwaysSolvedByLemke) {
   }
 }
 
+TEST(Complementarity, WarmStartFromTheRightSupportSkipsLemke) {
+  // A P-matrix (diagonally dominant) LCP of 60 unknowns: one solution, whose support is the
+  // right guess; a wrong guess (one index dropped) must fall back to Lemke.
+  const int n = 60;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd m(n, n);
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) m(r, c) = r == c ? n : u(rng);
+  Eigen::VectorXd q(n);
+  for (int i = 0; i < n; ++i) q[i] = u(rng);
+  const LcpResult cold = solve_lcp(m, q);
+  ASSERT_EQ(cold.outcome, LcpResult::Outcome::solved);
+  EXPECT_EQ(cold.how, "lemke");
+  std::vector<int> support;
+  for (int i = 0; i < n; ++i)
+    if (cold.lambda[i] > 1e-10) support.push_back(i);
+  ASSERT_GT(support.size(), 5u);
+  ASSERT_LT(support.size(), static_cast<std::size_t>(n - 5));
+  const LcpResult warm = solve_lcp(m, q, 1e-10, 16, &support);
+  expect_solution(m, q, warm);
+  EXPECT_EQ(warm.how, "warm start");
+  EXPECT_LT((warm.lambda - cold.lambda).cwiseAbs().maxCoeff(), 1e-12);
+  const std::vector<int> wrong(support.begin() + 1, support.end());
+  const LcpResult fallback = solve_lcp(m, q, 1e-10, 16, &wrong);
+  expect_solution(m, q, fallback);
+  EXPECT_EQ(fallback.how, "lemke");
+}
+
+TEST(Complementarity, WarmStartOnASingularSupportFallsBackToLemke) {
+  // M_aa singular on the guess {0, 1}: no round can solve on it, so Lemke decides.
+  Eigen::MatrixXd m(2, 2);
+  m << 1, 1, 1, 1;
+  const Eigen::VectorXd q = Eigen::Vector2d(-1.0, -1.0);
+  const std::vector<int> guess{0, 1};
+  const LcpResult r = solve_lcp(m, q, 1e-10, 16, &guess);
+  expect_solution(m, q, r);
+  EXPECT_EQ(r.how, "lemke");
+}
+
 // Lemke one pivot at a time over the whole tableau (the form before the batched updates), the
 // reference of the next test: lambda, or an empty vector on a ray.
 Eigen::VectorXd lemke_one_pivot_at_a_time(const Eigen::MatrixXd& m, const Eigen::VectorXd& q) {
