@@ -137,7 +137,7 @@ TEST(Complementarity, WarmStartFromTheRightSupportSkipsLemke) {
 }
 
 TEST(Complementarity, WarmStartOnASingularSupportFallsBackToLemke) {
-  // M_aa singular on the guess {0, 1}: no round can solve on it, so Lemke decides.
+  // M_aa singular on the guess {0, 1}: the solve on it fails, so Lemke decides.
   Eigen::MatrixXd m(2, 2);
   m << 1, 1, 1, 1;
   const Eigen::VectorXd q = Eigen::Vector2d(-1.0, -1.0);
