@@ -25,63 +25,78 @@ bool satisfies(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const Eigen::
   for (int j = 0; j < width; ++j) row[j] -= f * b[j];
 }
 
-// Lemke's tableau [I | -M | -e | q] with its pivots applied in batches. A pivot on (r, c) divides
-// row r by t(r, c) and subtracts t(i, c) times that row from every other row i with t(i, c) != 0.
-// Applied at once, each pivot swept the whole tableau (62 MB at 1964 contacts, N = 5600); here a
-// pivot records its normalised row and its column of factors, and the rows take the pending
-// pivots `batch` at a time, each row held in L1 meanwhile (series B's LCPs 2.7 -> 1.3 s with the
-// AVX clones, N = 5600's 49 -> 27 s). Every entry undergoes the same operations in the same order
-// as with one pivot at a time, so the same bits; entries read between two batches (the ratio
-// test's columns, the pivot row) take the pending pivots on the fly.
+// Lemke's tableau [I | -M | -e | q] with its pivots applied in batches, and kept over the
+// nonbasic variables only. Variables: w_i = i, z_j = n + j, z0 = 2n, and q as 2n + 1. A pivot on
+// (r, c) divides row r by t(r, c) and subtracts t(i, c) times that row from every other row i
+// with t(i, c) != 0. A basic variable's column is a unit vector that nothing reads, so the
+// tableau holds the n + 1 nonbasic columns and q (half the width of the whole one): after a
+// pivot, column c is the leaving variable's, computed as the whole tableau computes its unit
+// column (1 / t(r, c) in row r, 0 - t(i, c) / t(r, c) elsewhere). Applied at once, each pivot
+// swept the whole tableau (62 MB at 1964 contacts, N = 5600); here a pivot records its
+// normalised row and its column of factors, and the rows take the pending pivots `batch` at a
+// time, each row held in L1 meanwhile (series B's LCPs 2.7 -> 1.3 s with the AVX clones, N =
+// 5600's 49 -> 27 s). Every entry undergoes the same operations in the same order as with one
+// pivot at a time over the whole tableau, so the same bits; entries read between two batches
+// (the ratio test's columns, the pivot row) take the pending pivots on the fly.
 class LemkeTableau {
  public:
   static constexpr int batch = 16;
   LemkeTableau(const Eigen::MatrixXd& m, const Eigen::VectorXd& q)
       : n_(static_cast<int>(q.size())),
-        width_(2 * n_ + 2),
-        t_(Rows::Zero(n_, width_)),
+        width_(n_ + 2),
+        t_(n_, width_),
         b_(batch, width_),
         a_(n_, batch),
-        rows_(batch) {
-    t_.leftCols(n_).setIdentity();
-    t_.block(0, n_, n_, n_) = -m;
-    t_.col(2 * n_).setConstant(-1.0);
-    t_.col(2 * n_ + 1) = q;
+        rows_(batch),
+        cols_(batch),
+        where_(2 * n_ + 2, -1) {
+    t_.leftCols(n_) = -m;
+    t_.col(n_).setConstant(-1.0);
+    t_.col(n_ + 1) = q;
+    for (int j = 0; j <= n_ + 1; ++j) where_[n_ + j] = j;  // z_j, z0, q
   }
-  // Entry (i, j) with the pending pivots applied.
-  double at(int i, int j) const {
-    double v = t_(i, j);
+  // Entry (i, variable v's column) with the pending pivots applied; v nonbasic or q.
+  double at(int i, int v) const {
+    const int j = where_[v];
+    double x = t_(i, j);
     for (int k = 0; k < count_; ++k) {
       if (i == rows_[k]) {
-        v = b_(k, j);
+        x = b_(k, j);
       } else if (a_(i, k) != 0.0) {
-        v -= a_(i, k) * b_(k, j);
+        x = (j == cols_[k] ? 0.0 : x) - a_(i, k) * b_(k, j);
       }
     }
-    return v;
+    return x;
   }
-  void column(int j, Eigen::VectorXd& out) const {
+  void column(int v, Eigen::VectorXd& out) const {
     out.resize(n_);
-    for (int i = 0; i < n_; ++i) out[i] = at(i, j);
+    for (int i = 0; i < n_; ++i) out[i] = at(i, v);
   }
-  // Pivot on (r, c); column_c: column c as at() gives it.
-  void pivot(int r, int c, const Eigen::VectorXd& column_c) {
+  // Pivot on (r, entering): `leaving` (basic in row r) leaves; column_c: the entering
+  // variable's column as at() gives it.
+  void pivot(int r, int entering, int leaving, const Eigen::VectorXd& column_c) {
     if (count_ == batch) flush();
+    const int c = where_[entering];
     double* row = &b_(count_, 0);
     for (int j = 0; j < width_; ++j) row[j] = t_(r, j);
     apply_pending(r, row);
     const double p = row[c];
     for (int j = 0; j < width_; ++j) row[j] /= p;
+    row[c] = 1.0 / p;  // the leaving variable's unit column, divided as the row is
     for (int i = 0; i < n_; ++i) a_(i, count_) = i == r ? 0.0 : column_c[i];
-    rows_[count_++] = r;
+    rows_[count_] = r;
+    cols_[count_++] = c;
+    where_[leaving] = c;
+    where_[entering] = -1;
   }
   void flush() {
     for (int i = 0; i < n_; ++i) apply_pending(i, &t_(i, 0));
     count_ = 0;
   }
+  // The largest |entry| of the whole tableau but q (its unit columns give 1).
   double max_abs_except_rhs() {
     flush();
-    return t_.leftCols(width_ - 1).cwiseAbs().maxCoeff();
+    return std::max(1.0, t_.leftCols(width_ - 1).cwiseAbs().maxCoeff());
   }
 
  private:
@@ -92,6 +107,7 @@ class LemkeTableau {
       if (i == rows_[k]) {
         for (int j = 0; j < width_; ++j) row[j] = bk[j];
       } else if (const double f = a_(i, k); f != 0.0) {
+        row[cols_[k]] = 0.0;  // the leaving variable's unit column: 0 off row r
         subtract_multiple(row, f, bk, width_);
       }
     }
@@ -100,7 +116,8 @@ class LemkeTableau {
   Rows t_;
   Rows b_;             // the pending pivots' normalised rows
   Eigen::MatrixXd a_;  // and their factors t(i, c) (0 in the pivot row)
-  std::vector<int> rows_;
+  std::vector<int> rows_, cols_;
+  std::vector<int> where_;  // a variable's column, -1 while basic
   int count_ = 0;
 };
 
@@ -143,8 +160,8 @@ bool lemke(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, Eigen::VectorXd& 
   for (int i = 0; i < n; ++i) basis[i] = i;
   Eigen::VectorXd entering_column, rhs_column;
   const auto pivot = [&](int r, int c) {
-    t.pivot(r, c, entering_column);
     const int left = basis[r];
+    t.pivot(r, c, left, entering_column);
     basis[r] = c;
     return left;
   };
