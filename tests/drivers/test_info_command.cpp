@@ -94,3 +94,19 @@ TEST_F(InfoCommand, MissingFileIsAnError) {
 }
 
 }  // namespace
+
+namespace {
+
+// `granstab version` names the BLAS file that this process loaded (UMFPACK's fronts run on it).
+TEST(VersionCommand, NamesTheBlasInUse) {
+  granstab::testing::Workdir dir{"version"};
+  const CommandResult r = dir.run("version");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const auto at = r.out.find("BLAS: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string file = r.out.substr(at + 6, r.out.find('\n', at) - at - 6);
+  EXPECT_TRUE(fs::exists(file)) << file;
+  EXPECT_NE(file.find("blas"), std::string::npos) << file;
+}
+
+}  // namespace
