@@ -6,8 +6,8 @@ packages=(g++ cmake make ninja-build pkg-config libeigen3-dev libsuitesparse-dev
   python3-matplotlib python3-munkres
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module and its tests
   libopenmpi-dev openmpi-bin  # granstab study under mpirun
-  # The serial OpenBLAS becomes the system's libblas.so.3 (Debian alternatives): UMFPACK's and
-  # CHOLMOD's dense fronts, a third of a q1 run at N = 5600 on the reference BLAS (docs/static.md).
+  # The serial OpenBLAS becomes the system's libblas.so.3 (Debian alternatives): it runs the dense
+  # fronts of UMFPACK's LUs, 42 % of a q1 run at N = 5600 on the reference BLAS (docs/static.md).
   libopenblas0-serial)
 missing=()
 for p in "${packages[@]}"; do

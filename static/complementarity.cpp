@@ -31,7 +31,7 @@ bool satisfies(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, const Eigen::
 // with t(i, c) != 0. A basic variable's column is a unit vector that nothing reads, so the
 // tableau holds the n + 1 nonbasic columns and q (half the width of the whole one): after a
 // pivot, column c is the leaving variable's, computed as the whole tableau computes its unit
-// column (1 / t(r, c) in row r, 0 - t(i, c) / t(r, c) elsewhere). Applied at once, each pivot
+// column (1 / t(r, c) in row r, 0 - t(i, c) (1 / t(r, c)) elsewhere). Applied at once, each pivot
 // swept the whole tableau (62 MB at 1964 contacts, N = 5600); here a pivot records its
 // normalised row and its column of factors, and the rows take the pending pivots `batch` at a
 // time, each row held in L1 meanwhile (series B's LCPs 2.7 -> 1.3 s with the AVX clones, N =

@@ -93,10 +93,6 @@ TEST_F(InfoCommand, MissingFileIsAnError) {
   EXPECT_TRUE(r.out.empty());
 }
 
-}  // namespace
-
-namespace {
-
 // `granstab version` names the BLAS file that this process loaded (UMFPACK's fronts run on it).
 TEST(VersionCommand, NamesTheBlasInUse) {
   granstab::testing::Workdir dir{"version"};
