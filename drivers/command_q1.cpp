@@ -17,6 +17,7 @@
 #include "common/io/configuration_file.hpp"
 #include "common/io/json_text.hpp"
 #include "crosscheck.hpp"
+#include "provenance.hpp"
 #include "static_start.hpp"
 #include "static/q1.hpp"
 #include "static/rigid_limit.hpp"
@@ -80,7 +81,9 @@ std::string q1_json(const Q1CommandOptions& o, const StaticStart& start,
     << "  \"seconds_factorisation\": " << json_number(r.timings.factorisation) << ",\n"
     << "  \"seconds_complementarity\": " << json_number(r.timings.complementarity) << ",\n"
     << "  \"seconds_corrector\": " << json_number(r.timings.corrector) << ",\n"
-    << "  \"wall_seconds\": " << json_number(seconds) << "\n"
+    << "  \"wall_seconds\": " << json_number(seconds) << ",\n"
+    << "  \"granstab_version\": " << json_string(granstab_version()) << ",\n"
+    << "  \"blas\": " << json_string(blas_library()) << "\n"
     << "}\n";
   return s.str();
 }

@@ -37,7 +37,8 @@ TEST_F(Q1Command, WritesCurveSummaryAndMode) {
   // on "predictor: singular", docs/validation.md.)
   for (const char* field :
        {"\"q1\":", "\"q1_bracket\":", "\"criterion\": \"existence\"", "\"n_sliding_at_q1\": 48",
-        "\"q_max_rigid\": 27.856", "\"n_disks\": 16", "\"n_contacts\": 48", "\"wall_seconds\":"})
+        "\"q_max_rigid\": 27.856", "\"n_disks\": 16", "\"n_contacts\": 48",
+        "\"wall_seconds\":", "\"granstab_version\": \"", "\"blas\": \"/"})
     EXPECT_NE(json.find(field), std::string::npos) << field << "\n" << json;
   const std::string csv = slurp(out / "static_curve.csv");
   EXPECT_EQ(csv.rfind("step,load,q,epsilon_1,epsilon_2,epsilon_v,n_sliding,hill,", 0), 0u);
