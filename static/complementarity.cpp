@@ -171,7 +171,7 @@ bool lemke(const Eigen::MatrixXd& m, const Eigen::VectorXd& q, Eigen::VectorXd& 
   int entering = n + r0;  // complement of w_r0, which z0 replaces
   t.column(z0, entering_column);
   pivot(r0, z0);
-  const double tiny = 1e-12 * std::max(1.0, t.max_abs_except_rhs());
+  const double tiny = 1e-12 * t.max_abs_except_rhs();
   for (int it = 0; it < 50 * n + 100; ++it) {
     t.column(entering, entering_column);
     t.column(rhs, rhs_column);
