@@ -156,7 +156,8 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
                      const PredictorResult* warm = nullptr);
 
 // Moves the start of the step to dq: positions, rotations, cell lengths, tangential states and
-// statuses; open contacts leave the list; imposed extensions are consumed.
+// statuses; open contacts leave the list; sliding ones stay exactly on the cone of the moved
+// geometry; imposed extensions are consumed.
 void advance(Network& net, const Eigen::VectorXd& dq, const std::vector<ContactState>& states);
 
 // §S3.0: rattlers and dofs, then the equilibrium polished at frozen statuses. Returns the polish's
