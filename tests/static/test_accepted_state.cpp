@@ -3,7 +3,9 @@
 // critical; the corrector stops at the round-off floor of its residual instead of grinding there.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "common/contact_law.hpp"
