@@ -16,6 +16,10 @@ enum class ContactStatus : std::uint8_t {
   open = 3
 };
 
+inline bool slides(ContactStatus s) {
+  return s == ContactStatus::slide_positive || s == ContactStatus::slide_negative;
+}
+
 struct Contacts {
   std::vector<std::int32_t> i;       // first disk
   std::vector<std::int32_t> j;       // second disk, or a Wall (j < 0)

@@ -228,9 +228,7 @@ std::vector<int> sliding_contacts_of_gear_clusters(const Network& net,
             in_cluster[other] = 1;
             stack.push_back(other);
           }
-        } else if (!taken[c] && s.frictional && s.f_n > 0.0 &&
-                   (statuses[c] == ContactStatus::slide_positive ||
-                    statuses[c] == ContactStatus::slide_negative)) {
+        } else if (!taken[c] && s.frictional && s.f_n > 0.0 && slides(statuses[c])) {
           taken[c] = 1;
           sliding.push_back(static_cast<int>(c));
         }

@@ -31,10 +31,6 @@ std::array<double, 2> contact_rates(const ContactState& s, const Eigen::VectorXd
   return {bn, bt};
 }
 
-bool slides(ContactStatus s) {
-  return s == ContactStatus::slide_positive || s == ContactStatus::slide_negative;
-}
-
 ContactStatus slide_status(double sign) {
   return sign > 0.0 ? ContactStatus::slide_positive : ContactStatus::slide_negative;
 }

@@ -110,8 +110,7 @@ void advance(Network& net, const Eigen::VectorXd& dq, const std::vector<ContactS
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(m.size);
   for (std::size_t c = 0; c < net.contacts.size(); ++c) {
     const ContactStatus status = net.contacts.status[c];
-    if (status != ContactStatus::slide_positive && status != ContactStatus::slide_negative)
-      continue;
+    if (!slides(status)) continue;
     const ContactState s = evaluate_contact(net, c, zero);
     if (!s.frictional || !(s.f_n > 0.0)) continue;
     const double sign = status == ContactStatus::slide_positive ? 1.0 : -1.0;

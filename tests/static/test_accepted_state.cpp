@@ -32,9 +32,7 @@ TEST(AcceptedState, SlidingContactsStayOnTheCone) {
     ++states;
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
     for (std::size_t c = 0; c < net.contacts.size(); ++c) {
-      const ContactStatus status = net.contacts.status[c];
-      if (status != ContactStatus::slide_positive && status != ContactStatus::slide_negative)
-        continue;
+      if (!slides(net.contacts.status[c])) continue;
       const ContactState s = evaluate_contact(net, c, zero);
       if (!s.frictional || !(s.f_n > 0.0)) continue;
       ++sliding;
