@@ -1,6 +1,7 @@
 #include "static/backbone.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace granstab::statics {
@@ -74,7 +75,12 @@ void rebuild_degrees_of_freedom(Network& net) {
         !carrying[i] && (net.constraints.disk_fixed.empty() || !net.constraints.disk_fixed[i]);
 }
 
-void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq) {
+namespace {
+
+// activate_disks and make_rattlers: the listed disks get (or lose) their dofs, every other dof
+// and the pinned translation kept, dq carried over to the new numbering. False if nothing changed
+// or (making rattlers) a listed disk holds the pinned translation.
+bool set_active(Network& net, const std::vector<int>& disks, bool active, Eigen::VectorXd& dq) {
   const DofMap old = net.dofs;
   DofOptions o;
   o.active.assign(net.n_disks(), 0);
@@ -84,18 +90,32 @@ void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd
     if (old.ux[i] < 0 && old.theta[i] >= 0) o.pinned_translation = static_cast<int>(i);
   }
   bool changed = false;
-  for (const int i : disks)
-    if (i >= 0 && !o.active[i]) {
-      o.active[i] = 1;
-      changed = true;
+  for (const int i : disks) {
+    if (i < 0 || static_cast<std::size_t>(i) >= net.n_disks() || o.active[i] == active) continue;
+    if (!active && i == o.pinned_translation) return false;
+    o.active[i] = active;
+    changed = true;
+  }
+  if (!changed) return false;
+  if (!active) {
+    // A new rattler keeps the displacement dq gives it (where its contacts but one have opened):
+    // put back at the step's start it would overlap its cage again and be a disk with contacts at
+    // the next preparation.
+    const std::array<double, 2> e = cell_extension(net, dq);
+    for (const int i : disks) {
+      if (i < 0 || static_cast<std::size_t>(i) >= net.n_disks()) continue;
+      if (old.ux[i] >= 0) net.x[i] += dq[old.ux[i]] / (1.0 + e[0]);
+      if (old.uy[i] >= 0) net.y[i] += dq[old.uy[i]] / (1.0 + e[1]);
+      if (old.theta[i] >= 0) net.theta[i] += dq[old.theta[i]];
     }
-  if (!changed) return;
+  }
   o.rotation_fixed = net.constraints.rotation_fixed;
   o.cell = net.constraints.cell_free;
   net.dofs = build_dof_map(o);
   net.dofs.rattler = old.rattler;
   for (const int i : disks)
-    if (i >= 0 && static_cast<std::size_t>(i) < net.dofs.rattler.size()) net.dofs.rattler[i] = 0;
+    if (i >= 0 && static_cast<std::size_t>(i) < net.dofs.rattler.size())
+      net.dofs.rattler[i] = !active;
   Eigen::VectorXd moved = Eigen::VectorXd::Zero(net.dofs.size);
   const auto carry = [&](int from, int to) {
     if (from >= 0 && to >= 0) moved[to] = dq[from];
@@ -107,6 +127,43 @@ void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd
   }
   for (int a = 0; a < 2; ++a) carry(old.e[a], net.dofs.e[a]);
   dq = std::move(moved);
+  return true;
+}
+
+}  // namespace
+
+void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq) {
+  set_active(net, disks, true, dq);
+}
+
+bool make_rattlers(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq) {
+  return set_active(net, disks, false, dq);
+}
+
+std::vector<int> lone_contacts(const Network& net, const std::vector<char>& closed) {
+  const std::size_t n = net.n_disks();
+  std::vector<int> count(n, 0), last(n, -1);
+  for (std::size_t c = 0; c < closed.size(); ++c) {
+    if (!closed[c]) continue;
+    for (const int d : {net.contacts.i[c], net.contacts.j[c]}) {
+      if (is_wall(d)) continue;
+      ++count[d];
+      last[d] = static_cast<int>(c);
+    }
+  }
+  // The disk that holds the pinned translation of a periodic cell is left alone: without it the
+  // rest would have no gauge (make_rattlers refuses it too). So is a disk under a dead load, which
+  // one contact can balance.
+  const DofMap& m = net.dofs;
+  const std::vector<double>& dead = net.loading.dead;
+  const auto loaded = [&dead](std::size_t i) {
+    for (std::size_t k = 3 * i; k < 3 * i + 3 && k < dead.size(); ++k)
+      if (dead[k] != 0.0) return true;
+    return false;
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    if (count[i] != 1 || m.ux[i] < 0 || m.uy[i] < 0 || loaded(i)) last[i] = -1;
+  return last;
 }
 
 namespace {

@@ -20,6 +20,17 @@ void rebuild_degrees_of_freedom(Network& net);
 // (the new dofs start at 0, i.e. at the affinely moved position the rattler had).
 void activate_disks(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq);
 
+// The opposite, in the corrector: a disk left with one closed contact carries no force in any
+// equilibrium, so it becomes a rattler (its dofs go, its contacts carry no force) at the place dq
+// has moved it to, and moves affinely with the cell from there. False when none changed or one
+// holds the pinned translation.
+bool make_rattlers(Network& net, const std::vector<int>& disks, Eigen::VectorXd& dq);
+
+// For each disk with translation dofs (not the one that holds a periodic cell's pinned
+// translation) and no dead load that has exactly one closed contact (closed[c], walls included; a
+// contact with its own periodic image counts twice): the index of that contact, else -1.
+std::vector<int> lone_contacts(const Network& net, const std::vector<char>& closed);
+
 // Gear modes (§S3.5): rotations theta only, with a_i theta_i + a_j theta_j = 0 on every sticking
 // frictional contact (a lone disk whose contacts all slide or are frictionless is a cluster of
 // one). They change no force (B_N v = 0, t.D v = 0 by construction), so one rotation per free

@@ -327,6 +327,22 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
           solve_kept(net, p.tangent, p.kept, r0, *factor, p.dq, timings, true, eta, &unbalanced);
     }
     if (solved == Solve::singular) {
+      // A disk left with one closed contact (its others open under these statuses) has a
+      // singular block: one contact holds two of its three dofs. It carries no force in any
+      // equilibrium, so in a step (not the check, whose increment is infinitesimal) that contact
+      // opens too: the disk is then dropped (kept_dofs) and the corrector lets it go.
+      bool opened = false;
+      if (!determinant) {
+        std::vector<char> closed(nc);
+        for (std::size_t c = 0; c < nc; ++c) closed[c] = p.statuses[c] != ContactStatus::open;
+        for (const int c : lone_contacts(net, closed)) {
+          if (c < 0) continue;
+          p.statuses[c] = ContactStatus::open;
+          undecided[c] = 1;
+          opened = true;
+        }
+      }
+      if (opened) continue;
       p.failure = "singular";
       break;
     }

@@ -2,6 +2,8 @@
 // whose forces tend to 0) becomes a rattler; it must not make the network look unstable.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 
 #include "common/io/configuration_file.hpp"
@@ -57,6 +59,89 @@ TEST(VanishingContacts, NewRattlerInsideAStepIsNotAnInstability) {
   const StabilityResult r = find_q1(c, o);
   EXPECT_EQ(r.criterion, Criterion::none) << r.q1 << " " << r.detail;
   EXPECT_GE(r.q1, 0.35);
+}
+
+// The corrector's side (load_step.cpp): a disk left with one closed contact becomes a rattler
+// (make_rattlers): its dofs go, the others keep their values, it stays where dq had moved it, its
+// contacts carry no force, and the translation-pinned disk is refused (removing it would change
+// the gauge of every u).
+TEST(VanishingContacts, MakeRattlersDropsTheDisksAndTheirForces) {
+  Network net = network_from_configuration(read_configuration(sample));
+  prepare(net, SolverOptions{});
+  const Network start = net;
+  const DofMap before = net.dofs;
+  int disk = -1, pinned = -1;
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    if (before.ux[i] < 0 && before.theta[i] >= 0) pinned = static_cast<int>(i);
+    if (disk < 0 && before.ux[i] >= 0) disk = static_cast<int>(i);
+  }
+  ASSERT_GE(disk, 0);
+  ASSERT_GE(pinned, 0);
+  Eigen::VectorXd dq = 1e-4 * Eigen::VectorXd::LinSpaced(before.size, 1.0, double(before.size));
+  const std::array<double, 2> e = cell_extension(net, dq);
+  Eigen::VectorXd kept = dq;
+  EXPECT_FALSE(make_rattlers(net, {pinned}, kept));
+  EXPECT_EQ(net.dofs.size, before.size);
+  ASSERT_TRUE(make_rattlers(net, {disk}, dq));
+  EXPECT_EQ(net.dofs.size, before.size - 3);
+  EXPECT_TRUE(net.dofs.is_rattler(disk));
+  EXPECT_LT(net.dofs.ux[disk], 0);
+  EXPECT_LT(net.dofs.theta[disk], 0);
+  // Moved affinely from here on, it ends where the step's dq would have put it.
+  EXPECT_DOUBLE_EQ((1.0 + e[0]) * net.x[disk],
+                   (1.0 + e[0]) * start.x[disk] + kept[before.ux[disk]]);
+  EXPECT_DOUBLE_EQ((1.0 + e[1]) * net.y[disk],
+                   (1.0 + e[1]) * start.y[disk] + kept[before.uy[disk]]);
+  EXPECT_DOUBLE_EQ(net.theta[disk], start.theta[disk] + kept[before.theta[disk]]);
+  for (std::size_t i = 0; i < net.n_disks(); ++i) {
+    if (static_cast<int>(i) == disk) continue;
+    EXPECT_EQ(net.x[i], start.x[i]) << i;
+    if (before.uy[i] >= 0) {
+      EXPECT_EQ(dq[net.dofs.uy[i]], kept[before.uy[i]]) << i;
+    }
+  }
+  const std::vector<ContactState> states =
+      evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
+  int touching = 0;
+  for (std::size_t c = 0; c < states.size(); ++c)
+    if (net.contacts.i[c] == disk || net.contacts.j[c] == disk) {
+      ++touching;
+      EXPECT_EQ(states[c].f_n, 0.0);
+      EXPECT_EQ(states[c].f_t, 0.0);
+    }
+  EXPECT_GE(touching, 2);
+}
+
+// lone_contacts counts the closed contacts of each disk with dofs: with all but one of a disk's
+// contacts open, that one is its lone contact; its partners keep their others and none is named.
+TEST(VanishingContacts, LoneContactsNameTheLastClosedContactOfADisk) {
+  Network net = network_from_configuration(read_configuration(sample));
+  prepare(net, SolverOptions{});
+  const std::vector<ContactState> states =
+      evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
+  std::vector<char> closed(states.size());
+  for (std::size_t c = 0; c < states.size(); ++c) closed[c] = states[c].f_n > 0.0;
+  for (const int c : lone_contacts(net, closed)) EXPECT_EQ(c, -1);  // prepared: >= 2 each
+  int disk = -1, keep = -1;
+  for (std::size_t c = 0; c < states.size() && disk < 0; ++c)
+    if (closed[c] && net.dofs.ux[net.contacts.i[c]] >= 0) {
+      disk = net.contacts.i[c];
+      keep = static_cast<int>(c);
+    }
+  ASSERT_GE(disk, 0);
+  for (std::size_t c = 0; c < states.size(); ++c)
+    if (static_cast<int>(c) != keep && (net.contacts.i[c] == disk || net.contacts.j[c] == disk))
+      closed[c] = 0;
+  const std::vector<int> lone = lone_contacts(net, closed);
+  for (std::size_t i = 0; i < lone.size(); ++i) {
+    if (static_cast<int>(i) == disk) {
+      EXPECT_EQ(lone[i], keep);
+    } else if (lone[i] >= 0) {
+      // A partner of the disk can be left with one too (then it is named), never another disk.
+      const int c = lone[i];
+      EXPECT_TRUE(net.contacts.i[c] == disk || net.contacts.j[c] == disk) << i;
+    }
+  }
 }
 
 }  // namespace
