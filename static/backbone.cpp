@@ -140,6 +140,22 @@ bool make_rattlers(Network& net, const std::vector<int>& disks, Eigen::VectorXd&
   return set_active(net, disks, false, dq);
 }
 
+std::vector<int> step_off_lone_contacts(const Network& net, const std::vector<int>& lone,
+                                        const std::vector<ContactState>& states,
+                                        Eigen::VectorXd& dq) {
+  std::vector<int> disks;
+  const DofMap& m = net.dofs;
+  for (std::size_t i = 0; i < lone.size(); ++i) {
+    if (lone[i] < 0) continue;
+    disks.push_back(static_cast<int>(i));
+    const ContactFrame& f = states[lone[i]].frame;  // n from contact i to contact j
+    const double away = (net.contacts.i[lone[i]] == static_cast<int>(i) ? -1.01 : 1.01) * f.h;
+    dq[m.ux[i]] += away * f.nx;
+    dq[m.uy[i]] += away * f.ny;
+  }
+  return disks;
+}
+
 std::vector<int> lone_contacts(const Network& net, const std::vector<char>& closed) {
   const std::size_t n = net.n_disks();
   std::vector<int> count(n, 0), last(n, -1);

@@ -31,6 +31,14 @@ bool make_rattlers(Network& net, const std::vector<int>& disks, Eigen::VectorXd&
 // contact with its own periodic image counts twice): the index of that contact, else -1.
 std::vector<int> lone_contacts(const Network& net, const std::vector<char>& closed);
 
+// Moves each disk i with a lone contact (lone[i] >= 0, from lone_contacts) off it in dq, along
+// the contact's normal at dq (states) by 1.01 times its overlap: as a rattler it then overlaps
+// nothing, where it would otherwise carry that force again at the next preparation. Returns those
+// disks.
+std::vector<int> step_off_lone_contacts(const Network& net, const std::vector<int>& lone,
+                                        const std::vector<ContactState>& states,
+                                        Eigen::VectorXd& dq);
+
 // Gear modes (§S3.5): rotations theta only, with a_i theta_i + a_j theta_j = 0 on every sticking
 // frictional contact (a lone disk whose contacts all slide or are frictionless is a cluster of
 // one). They change no force (B_N v = 0, t.D v = 0 by construction), so one rotation per free

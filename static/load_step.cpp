@@ -139,16 +139,15 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
     if (!step.corrector.converged) {
       // A disk left with one closed contact (the others opened in the step) carries no force in
       // any equilibrium, and its dofs make the tangent singular (a translation or rotation that
-      // the lone contact does not hold): it becomes a rattler, as the preparation's rule makes
-      // disks with fewer than two force-carrying contacts (SPEC §2), and the corrector reruns.
+      // the lone contact does not hold): it steps off that contact and becomes a rattler, as the
+      // preparation's rule makes disks with fewer than two force-carrying contacts (SPEC §2), and
+      // the corrector reruns.
       std::vector<char> closed(step.corrector.states.size());
       for (std::size_t c = 0; c < closed.size(); ++c)
         closed[c] = step.corrector.states[c].f_n > 0.0;
       const std::vector<int> lone = lone_contacts(trial, closed);
-      std::vector<int> loose;
-      for (std::size_t i = 0; i < lone.size(); ++i)
-        if (lone[i] >= 0) loose.push_back(static_cast<int>(i));
       dq = step.corrector.dq;
+      const std::vector<int> loose = step_off_lone_contacts(trial, lone, step.corrector.states, dq);
       if (!loose.empty() && round < options.max_closing_rounds && make_rattlers(trial, loose, dq))
         continue;
       step.failure = "corrector";

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 
 #include "common/io/configuration_file.hpp"
@@ -113,7 +114,8 @@ TEST(VanishingContacts, MakeRattlersDropsTheDisksAndTheirForces) {
 }
 
 // lone_contacts counts the closed contacts of each disk with dofs: with all but one of a disk's
-// contacts open, that one is its lone contact; its partners keep their others and none is named.
+// contacts open, that one is its lone contact (a partner is named only if left with one too).
+// step_off_lone_contacts then moves the disk off it.
 TEST(VanishingContacts, LoneContactsNameTheLastClosedContactOfADisk) {
   Network net = network_from_configuration(read_configuration(sample));
   prepare(net, SolverOptions{});
@@ -142,6 +144,16 @@ TEST(VanishingContacts, LoneContactsNameTheLastClosedContactOfADisk) {
       EXPECT_TRUE(net.contacts.i[c] == disk || net.contacts.j[c] == disk) << i;
     }
   }
+  // Stepping off: the disk moves along the contact's normal by 1.01 h, which opens it.
+  const double h = states[keep].frame.h;
+  std::vector<int> only(lone.size(), -1);
+  only[disk] = keep;
+  Eigen::VectorXd dq = Eigen::VectorXd::Zero(net.dofs.size);
+  EXPECT_EQ(step_off_lone_contacts(net, only, states, dq), std::vector<int>{disk});
+  EXPECT_NEAR(std::hypot(dq[net.dofs.ux[disk]], dq[net.dofs.uy[disk]]), 1.01 * h, 1e-15);
+  const double after = evaluate_contact(net, keep, dq).frame.h;
+  EXPECT_LT(after, 0.0);
+  EXPECT_NEAR(after, -0.01 * h, 1e-3 * h);  // to first order in h / d
 }
 
 }  // namespace
