@@ -98,9 +98,9 @@ bool set_active(Network& net, const std::vector<int>& disks, bool active, Eigen:
   }
   if (!changed) return false;
   if (!active) {
-    // A new rattler keeps the displacement dq gives it (where its contacts but one have opened):
-    // put back at the step's start it would overlap its cage again and be a disk with contacts at
-    // the next preparation.
+    // A new rattler keeps the displacement dq gives it (off its contacts, in the corrector: see
+    // step_off_lone_contacts): put back at the step's start it would overlap its cage again and
+    // be a disk with contacts at the next preparation.
     const std::array<double, 2> e = cell_extension(net, dq);
     for (const int i : disks) {
       if (i < 0 || static_cast<std::size_t>(i) >= net.n_disks()) continue;
