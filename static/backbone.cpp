@@ -148,7 +148,8 @@ std::vector<int> step_off_lone_contacts(const Network& net, const std::vector<in
   for (std::size_t i = 0; i < lone.size(); ++i) {
     if (lone[i] < 0) continue;
     disks.push_back(static_cast<int>(i));
-    const ContactFrame& f = states[lone[i]].frame;  // n from contact i to contact j
+    // n points from the contact's first disk to its second: the first moves against it.
+    const ContactFrame& f = states[lone[i]].frame;
     const double away = (net.contacts.i[lone[i]] == static_cast<int>(i) ? -1.01 : 1.01) * f.h;
     dq[m.ux[i]] += away * f.nx;
     dq[m.uy[i]] += away * f.ny;
