@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace granstab::statics {
 
@@ -155,6 +156,151 @@ std::vector<int> step_off_lone_contacts(const Network& net, const std::vector<in
     dq[m.uy[i]] += away * f.ny;
   }
   return disks;
+}
+
+namespace {
+
+// What a rattler at displacement y (from where it is) must keep clear of: a disk whose centre is
+// at c, at distance >= reach; or a wall, a . y >= reach with a the unit normal away from it.
+struct Limit {
+  bool wall;
+  double cx, cy, reach;
+};
+
+bool clears(const std::vector<Limit>& limits, double yx, double yy) {
+  for (const Limit& l : limits) {
+    const double slack = 1e-14 * std::max(std::abs(l.reach), 1.0);
+    if (l.wall ? l.cx * yx + l.cy * yy < l.reach - slack
+               : std::hypot(yx - l.cx, yy - l.cy) < l.reach - slack)
+      return false;
+  }
+  return true;
+}
+
+// The points of a limit's boundary (circle or line) that lie on another's: at most two.
+int meet(const Limit& p, const Limit& q, std::array<double, 4>& y) {
+  if (p.wall && q.wall) {
+    const double det = p.cx * q.cy - p.cy * q.cx;
+    if (std::abs(det) < 1e-12) return 0;
+    y = {(p.reach * q.cy - q.reach * p.cy) / det, (p.cx * q.reach - q.cx * p.reach) / det};
+    return 1;
+  }
+  if (p.wall || q.wall) {
+    const Limit& line = p.wall ? p : q;
+    const Limit& circle = p.wall ? q : p;
+    const double off = line.reach - (line.cx * circle.cx + line.cy * circle.cy);
+    if (std::abs(off) > circle.reach) return 0;
+    const double half = std::sqrt(circle.reach * circle.reach - off * off);
+    const double fx = circle.cx + off * line.cx, fy = circle.cy + off * line.cy;
+    y = {fx - half * line.cy, fy + half * line.cx, fx + half * line.cy, fy - half * line.cx};
+    return 2;
+  }
+  const double dx = q.cx - p.cx, dy = q.cy - p.cy, d = std::hypot(dx, dy);
+  if (d == 0.0 || d > p.reach + q.reach || d < std::abs(p.reach - q.reach)) return 0;
+  const double along = (p.reach * p.reach - q.reach * q.reach + d * d) / (2.0 * d);
+  const double half = std::sqrt(std::max(p.reach * p.reach - along * along, 0.0));
+  const double fx = p.cx + along * dx / d, fy = p.cy + along * dy / d;
+  y = {fx - half * dy / d, fy + half * dx / d, fx + half * dy / d, fy - half * dx / d};
+  return 2;
+}
+
+}  // namespace
+
+std::vector<int> clear_rattler_overlaps(Network& net, const std::vector<int>& disks,
+                                        const Eigen::VectorXd& dq,
+                                        const std::vector<ContactState>& states,
+                                        std::vector<int>& jammed) {
+  std::vector<int> moved;
+  const DofMap& m = net.dofs;
+  const std::array<double, 2> e = cell_extension(net, dq);
+  const std::array<double, 2> length = {net.length[0] * (1.0 + e[0]), net.length[1] * (1.0 + e[1])};
+  const auto at = [&](std::size_t p, int a) {
+    const double start = a == 0 ? net.x[p] : net.y[p];
+    const int dof = a == 0 ? m.ux[p] : m.uy[p];
+    return (1.0 + e[a]) * start + (dof >= 0 ? dq[dof] : 0.0);
+  };
+  std::vector<int> once = disks;  // a disk made a rattler twice in a step is listed twice
+  std::sort(once.begin(), once.end());
+  once.erase(std::unique(once.begin(), once.end()), once.end());
+  std::vector<Limit> limits;
+  std::vector<char> listed(net.n_disks(), 0);
+  for (const int d : once) {
+    if (!m.is_rattler(d)) continue;
+    int overlaps = 0;
+    for (std::size_t c = 0; c < net.contacts.size(); ++c) {
+      const int i = net.contacts.i[c], j = net.contacts.j[c];
+      if ((i != d && j != d) || i == j || !(states[c].frame.h > 0.0)) continue;
+      ++overlaps;
+      if (!is_wall(j)) listed[i == d ? j : i] = 1;
+    }
+    if (overlaps < 2) continue;
+    // Every body within reach of a move of up to `cap` (the contact list does not hold a
+    // rattler's new neighbours): a listed overlap h must open to a gap of 0.01 h, an unlisted
+    // one may not deepen, a gap may lose half of itself.
+    const double r = net.radius[d], cap = 0.1 * r;
+    const auto margin = [](double h, bool in_list) {
+      return h > 0.0 ? (in_list ? 1.01 * h : 0.0) : 0.5 * h;
+    };
+    const double x = at(d, 0), y = at(d, 1);
+    limits.clear();
+    for (std::size_t p = 0; p < net.n_disks(); ++p) {
+      if (static_cast<int>(p) == d) continue;
+      double dx = at(p, 0) - x, dy = at(p, 1) - y;
+      if (net.boundary == Boundary::periodic) {
+        dx -= length[0] * std::round(dx / length[0]);
+        dy -= length[1] * std::round(dy / length[1]);
+      }
+      const double dist = std::hypot(dx, dy), h = r + net.radius[p] - dist;
+      if (h < -2.0 * cap) continue;
+      limits.push_back({false, dx, dy, dist + margin(h, listed[p])});
+    }
+    if (net.boundary == Boundary::walls) {
+      const std::array<std::array<double, 3>, 4> walls = {
+          {{1.0, 0.0, x}, {-1.0, 0.0, length[0] - x}, {0.0, 1.0, y}, {0.0, -1.0, length[1] - y}}};
+      for (const auto& [ax, ay, dist] : walls) {
+        const double h = r - dist;
+        if (h >= -2.0 * cap) limits.push_back({true, ax, ay, margin(h, h > 0.0)});
+      }
+    }
+    for (std::size_t c = 0; c < net.contacts.size(); ++c) {
+      const int i = net.contacts.i[c], j = net.contacts.j[c];
+      if ((i == d || j == d) && !is_wall(j)) listed[i == d ? j : i] = 0;
+    }
+    // The nearest clear point lies on one limit's boundary (straight away from it) or where two
+    // boundaries meet.
+    double best = cap, best_x = 0.0, best_y = 0.0;
+    bool found = false;
+    const auto consider = [&](double yx, double yy) {
+      const double move = std::hypot(yx, yy);
+      if (move <= best && clears(limits, yx, yy)) {
+        best = move;
+        best_x = yx;
+        best_y = yy;
+        found = true;
+      }
+    };
+    std::array<double, 4> point{};
+    for (std::size_t a = 0; a < limits.size(); ++a) {
+      const Limit& p = limits[a];
+      if (p.wall) {
+        consider(p.reach * p.cx, p.reach * p.cy);
+      } else {
+        const double d0 = std::hypot(p.cx, p.cy);
+        consider(-(p.reach - d0) * p.cx / d0, -(p.reach - d0) * p.cy / d0);
+      }
+      for (std::size_t b = a + 1; b < limits.size(); ++b)
+        for (int k = 0, n = meet(p, limits[b], point); k < n; ++k)
+          consider(point[2 * k], point[2 * k + 1]);
+    }
+    if (!found) {
+      jammed.push_back(d);
+      continue;
+    }
+    net.x[d] += best_x / (1.0 + e[0]);
+    net.y[d] += best_y / (1.0 + e[1]);
+    moved.push_back(d);
+  }
+  return moved;
 }
 
 std::vector<int> lone_contacts(const Network& net, const std::vector<char>& closed) {

@@ -39,6 +39,18 @@ std::vector<int> step_off_lone_contacts(const Network& net, const std::vector<in
                                         const std::vector<ContactState>& states,
                                         Eigen::VectorXd& dq);
 
+// Moves each listed rattler that overlaps two or more of its listed contacts at dq (states) to
+// the nearest place within 0.1 of its radius where each such overlap h has opened to a gap of
+// 0.01 h, no other overlap deepens and no gap loses more than half of itself (exact circle and
+// wall geometry, every disk in reach, not only listed ones). Such a rattler would otherwise be a
+// disk with contacts out of balance at the next preparation. Those with no such place (caught by
+// their cage) go to jammed, unmoved. Returns the disks moved; their contact states must be
+// evaluated again.
+std::vector<int> clear_rattler_overlaps(Network& net, const std::vector<int>& disks,
+                                        const Eigen::VectorXd& dq,
+                                        const std::vector<ContactState>& states,
+                                        std::vector<int>& jammed);
+
 // Gear modes (§S3.5): rotations theta only, with a_i theta_i + a_j theta_j = 0 on every sticking
 // frictional contact (a lone disk whose contacts all slide or are frictionless is a cluster of
 // one). They change no force (B_N v = 0, t.D v = 0 by construction), so one rotation per free

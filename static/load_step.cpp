@@ -134,6 +134,7 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
   lu_statistics().phase = SolvePhase::chord;
   Eigen::VectorXd dq = chord_iterations(trial, step.predictor, step.predictor.dq, scale, options);
   lu_statistics().phase = SolvePhase::corrector;
+  std::vector<int> made_rattlers;
   for (int round = 0;; ++round) {
     step.corrector = newton_equilibrium(trial, dq, nullptr, scale, options, timings);
     if (!step.corrector.converged) {
@@ -148,8 +149,10 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
       const std::vector<int> lone = lone_contacts(trial, closed);
       dq = step.corrector.dq;
       const std::vector<int> loose = step_off_lone_contacts(trial, lone, step.corrector.states, dq);
-      if (!loose.empty() && round < options.max_closing_rounds && make_rattlers(trial, loose, dq))
+      if (!loose.empty() && round < options.max_closing_rounds && make_rattlers(trial, loose, dq)) {
+        made_rattlers.insert(made_rattlers.end(), loose.begin(), loose.end());
         continue;
+      }
       step.failure = "corrector";
       break;
     }
@@ -168,6 +171,21 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
       rattlers.push_back(rattler(a) ? a : b);
     }
     if (closing.empty() && rattlers.empty()) {
+      // A disk made a rattler in this step stepped off its last contact, but the disks around it
+      // moved on in the rounds after. Overlapped twice or more it would be a disk with contacts
+      // out of balance at the next preparation, and every later step failed (series A,
+      // N = 3025). So it moves clear of them, or, caught by its cage, gets its dofs back and the
+      // corrector reruns.
+      std::vector<int> jammed;
+      const bool moved = !clear_rattler_overlaps(trial, made_rattlers, step.corrector.dq,
+                                                 step.corrector.states, jammed)
+                              .empty();
+      if (!jammed.empty() && round < options.max_closing_rounds) {
+        dq = step.corrector.dq;
+        activate_disks(trial, jammed, dq);
+        continue;
+      }
+      if (moved) step.corrector.states = evaluate_contacts(trial, step.corrector.dq);
       step.ok = true;
       break;
     }

@@ -156,5 +156,130 @@ TEST(VanishingContacts, LoneContactsNameTheLastClosedContactOfADisk) {
   EXPECT_NEAR(after, -0.01 * h, 1e-3 * h);  // to first order in h / d
 }
 
+// A rattler made inside a step can be closed on by the disks around it in the rounds after
+// (series A, N = 3025). Overlapped twice it would carry unbalanced forces at the next preparation:
+// clear_rattler_overlaps moves it by the shortest displacement that opens them. A rattler whose
+// contacts surround it (jammed) stays.
+TEST(VanishingContacts, ClearRattlerOverlapsMovesARattlerOffTwoContacts) {
+  Network net = network_from_configuration(read_configuration(sample));
+  prepare(net, SolverOptions{});
+  const Network start = net;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
+  const std::vector<ContactState> states = evaluate_contacts(net, zero);
+  // A disk whose overlaps leave no half-plane free (jammed), two of them (c1, c2) 30 to 120
+  // degrees apart.
+  int disk = -1, c1 = -1, c2 = -1;
+  for (std::size_t i = 0; i < net.n_disks() && disk < 0; ++i) {
+    if (net.dofs.ux[i] < 0) continue;
+    std::vector<std::pair<double, int>> around;  // direction towards the other body, contact
+    for (std::size_t c = 0; c < states.size(); ++c) {
+      const int a = net.contacts.i[c], b = net.contacts.j[c];
+      if ((a != static_cast<int>(i) && b != static_cast<int>(i)) || !(states[c].frame.h > 0.0))
+        continue;
+      const double s = a == static_cast<int>(i) ? 1.0 : -1.0;
+      around.emplace_back(std::atan2(s * states[c].frame.ny, s * states[c].frame.nx), c);
+    }
+    if (around.size() < 3) continue;
+    std::sort(around.begin(), around.end());
+    double gap = 2.0 * M_PI - (around.back().first - around.front().first);
+    for (std::size_t k = 1; k < around.size(); ++k)
+      gap = std::max(gap, around[k].first - around[k - 1].first);
+    if (gap > 0.9 * M_PI) continue;
+    for (std::size_t k = 1; k < around.size() && c1 < 0; ++k) {
+      const double apart = around[k].first - around[k - 1].first;
+      if (apart > M_PI / 6 && apart < 2 * M_PI / 3) {
+        disk = static_cast<int>(i);
+        c1 = around[k - 1].second;
+        c2 = around[k].second;
+      }
+    }
+  }
+  ASSERT_GE(disk, 0);
+  Eigen::VectorXd dq = zero;
+  ASSERT_TRUE(make_rattlers(net, {disk}, dq));
+  const Network jammed = net;
+  std::vector<int> jammed_disks;
+  EXPECT_TRUE(
+      clear_rattler_overlaps(net, {disk}, dq, evaluate_contacts(net, dq), jammed_disks).empty());
+  EXPECT_EQ(jammed_disks, std::vector<int>{disk});
+  EXPECT_EQ(net.x[disk], jammed.x[disk]);
+  EXPECT_EQ(net.y[disk], jammed.y[disk]);
+  // The same disk shrunk to 0.7 r and put where it overlaps the partners of c1 and c2 only, by
+  // 1e-6 and 2e-6, with those two its only listed contacts.
+  net = start;
+  const std::array<int, 2> partner = {
+      net.contacts.i[c1] == disk ? net.contacts.j[c1] : net.contacts.i[c1],
+      net.contacts.i[c2] == disk ? net.contacts.j[c2] : net.contacts.i[c2]};
+  const auto offset = [&net](int from, int to) {  // minimum image
+    double dx = net.x[to] - net.x[from], dy = net.y[to] - net.y[from];
+    dx -= net.length[0] * std::round(dx / net.length[0]);
+    dy -= net.length[1] * std::round(dy / net.length[1]);
+    return std::array<double, 2>{dx, dy};
+  };
+  net.radius[disk] *= 0.7;
+  {
+    const std::array<double, 2> p = offset(disk, partner[0]), q = offset(disk, partner[1]);
+    const double rp = net.radius[disk] + net.radius[partner[0]] - 1e-6;
+    const double rq = net.radius[disk] + net.radius[partner[1]] - 2e-6;
+    const double dx = q[0] - p[0], dy = q[1] - p[1], d = std::hypot(dx, dy);
+    const double along = (rp * rp - rq * rq + d * d) / (2.0 * d);
+    const double half = std::sqrt(rp * rp - along * along);
+    // Of the two places, the one nearer the old centre (inside the cage).
+    const double fx = p[0] + along * dx / d, fy = p[1] + along * dy / d;
+    const double ax = fx - half * dy / d, ay = fy + half * dx / d;
+    const double bx = fx + half * dy / d, by = fy - half * dx / d;
+    const bool first = std::hypot(ax, ay) < std::hypot(bx, by);
+    net.x[disk] += first ? ax : bx;
+    net.y[disk] += first ? ay : by;
+  }
+  const auto overlapping = [&net, &offset](int d) {
+    std::vector<double> h;
+    for (std::size_t p = 0; p < net.n_disks(); ++p) {
+      if (static_cast<int>(p) == d) continue;
+      const std::array<double, 2> v = offset(d, static_cast<int>(p));
+      const double overlap = net.radius[d] + net.radius[p] - std::hypot(v[0], v[1]);
+      if (overlap > 0.0) h.push_back(overlap);
+    }
+    return h;
+  };
+  ASSERT_EQ(overlapping(disk).size(), 2u);
+  Contacts two;
+  const Contacts& all = start.contacts;
+  for (std::size_t c = 0; c < all.size(); ++c) {
+    const bool its = all.i[c] == disk || all.j[c] == disk;
+    if (!its || static_cast<int>(c) == c1 || static_cast<int>(c) == c2)
+      two.add(all.i[c], all.j[c], all.k1[c], all.k2[c], all.delta_t[c], all.status[c]);
+  }
+  net.contacts = two;
+  rebuild_degrees_of_freedom(net);  // no polish: it would move the disk off c1 and c2
+  dq = Eigen::VectorXd::Zero(net.dofs.size);
+  if (!net.dofs.is_rattler(disk)) {
+    ASSERT_TRUE(make_rattlers(net, {disk}, dq));
+  }
+  const std::vector<ContactState> before = evaluate_contacts(net, dq);
+  std::vector<int> touching;
+  for (std::size_t c = 0; c < before.size(); ++c)
+    if (net.contacts.i[c] == disk || net.contacts.j[c] == disk) {
+      touching.push_back(static_cast<int>(c));
+      ASSERT_GT(before[c].frame.h, 0.0);
+    }
+  ASSERT_EQ(touching.size(), 2u);
+  const double x0 = net.x[disk], y0 = net.y[disk];
+  jammed_disks.clear();
+  EXPECT_EQ(clear_rattler_overlaps(net, {disk}, dq, before, jammed_disks), std::vector<int>{disk});
+  EXPECT_TRUE(jammed_disks.empty());
+  const std::vector<ContactState> after = evaluate_contacts(net, dq);
+  bool binding = false;
+  for (const int c : touching) {
+    // Opened to a gap of 0.01 h or more; the nearest place leaves at least one exactly so.
+    const double h = before[c].frame.h;
+    EXPECT_LE(after[c].frame.h, -0.01 * h * (1.0 - 1e-6)) << c;
+    binding = binding || std::abs(after[c].frame.h + 0.01 * h) < 1e-6 * h;
+  }
+  EXPECT_TRUE(binding);
+  EXPECT_TRUE(overlapping(disk).empty());
+  EXPECT_LT(std::hypot(net.x[disk] - x0, net.y[disk] - y0), 0.1 * net.radius[disk]);
+}
+
 }  // namespace
 }  // namespace granstab::statics
