@@ -97,10 +97,10 @@ struct LuReuse {
   // cost of a few hundred microseconds (its frontal matrices, pivot search and memory) that KLU's
   // left-looking one does not have. Per numeric factorisation in q1 runs (bench_static, one
   // thread): 282 dofs (periodic-n100) 0.48 -> 0.30 ms, 1128 dofs (2 x 2 tiling) 3.9 -> 2.6 ms,
-  // 2538 (3 x 3) 9.6 -> 7.4, 3819 (series B) 20.9 -> 19.2; the solves are ~25 % faster at 282 dofs.
-  // 2000 keeps series A (N = 1024, ~3000 dofs), series B and the tilings on their paths to the bit
-  // (docs/static.md, "Performance").
-  int klu_max_dofs = 2000;
+  // 2538 (3 x 3) 9.6 -> 7.4. Whole q1 runs, side by side: series A (N = 1024, 2888 dofs) 9-11 %
+  // faster with KLU (its path moves by round-off, q1 the same bits), series B (3819 dofs) 8-12 %
+  // slower, so the threshold lies between them (bench/README.md "Static solver").
+  int klu_max_dofs = 3300;
   // Iterative refinement in solve and solve_transpose (UMFPACK's, or klu_factor.cpp's for KLU: up
   // to 2 steps against K, 5-8 unrefined solves' worth). Off, a solve is the exact inverse of the
   // computed factors (backward stable). The load step turns it off (SolverOptions::refine_solves).
