@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
+
+#include "common/cell.hpp"
+#include "common/contact_law.hpp"
 
 namespace granstab::statics {
 
@@ -213,7 +215,9 @@ std::vector<int> clear_rattler_overlaps(Network& net, const std::vector<int>& di
   std::vector<int> moved;
   const DofMap& m = net.dofs;
   const std::array<double, 2> e = cell_extension(net, dq);
-  const std::array<double, 2> length = {net.length[0] * (1.0 + e[0]), net.length[1] * (1.0 + e[1])};
+  Cell cell;  // the cell at dq
+  cell.boundary = net.boundary;
+  cell.length = {net.length[0] * (1.0 + e[0]), net.length[1] * (1.0 + e[1])};
   const auto at = [&](std::size_t p, int a) {
     const double start = a == 0 ? net.x[p] : net.y[p];
     const int dof = a == 0 ? m.ux[p] : m.uy[p];
@@ -246,21 +250,18 @@ std::vector<int> clear_rattler_overlaps(Network& net, const std::vector<int>& di
     for (std::size_t p = 0; p < net.n_disks(); ++p) {
       if (static_cast<int>(p) == d) continue;
       double dx = at(p, 0) - x, dy = at(p, 1) - y;
-      if (net.boundary == Boundary::periodic) {
-        dx -= length[0] * std::round(dx / length[0]);
-        dy -= length[1] * std::round(dy / length[1]);
+      if (cell.periodic()) {
+        dx += minimum_image_shift(dx, cell.length[0]) * cell.length[0];
+        dy += minimum_image_shift(dy, cell.length[1]) * cell.length[1];
       }
       const double dist = std::hypot(dx, dy), h = r + net.radius[p] - dist;
       if (h < -2.0 * cap) continue;
       limits.push_back({false, dx, dy, dist + margin(h, listed[p])});
     }
-    if (net.boundary == Boundary::walls) {
-      const std::array<std::array<double, 3>, 4> walls = {
-          {{1.0, 0.0, x}, {-1.0, 0.0, length[0] - x}, {0.0, 1.0, y}, {0.0, -1.0, length[1] - y}}};
-      for (const auto& [ax, ay, dist] : walls) {
-        const double h = r - dist;
-        if (h >= -2.0 * cap) limits.push_back({true, ax, ay, margin(h, h > 0.0)});
-      }
+    for (Wall w : {wall_left, wall_right, wall_bottom, wall_top}) {
+      if (cell.periodic()) continue;
+      const ContactFrame f = disk_wall_frame(x, y, r, w, cell);  // n points into the wall
+      if (f.h >= -2.0 * cap) limits.push_back({true, -f.nx, -f.ny, margin(f.h, f.h > 0.0)});
     }
     for (std::size_t c = 0; c < net.contacts.size(); ++c) {
       const int i = net.contacts.i[c], j = net.contacts.j[c];
