@@ -223,6 +223,12 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   p.ever_sliding.assign(nc, 0);
   const double k_n = net.material.k_n, k_t = net.material.k_t;
   const double eta = options.decision_tolerance;
+  // A step's r0 holds the start's residual, known from the check at that state; the check's
+  // increment holds none (check_state).
+  PinnedRowTest pinned_test;
+  pinned_test.tolerance = eta;
+  if (!rhs && warm && warm->start_residual.size() == net.dofs.size)
+    pinned_test.start_residual = &warm->start_residual;
   std::unordered_map<std::string, int> seen;  // status vector -> its index in history
   std::vector<std::string> history;
   std::shared_ptr<LuFactor> factor;
@@ -312,7 +318,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       p.kept = warm->kept;
       factor = warm->factor;
       const auto t0 = Clock::now();
-      solved = solve_factored(net, p.tangent, p.kept, *factor, r0, p.dq, true, eta, &unbalanced);
+      solved = solve_factored(net, p.tangent, p.kept, *factor, r0, p.dq, &pinned_test, &unbalanced);
       if (timings) timings->factorisation += seconds_since(t0);
     } else {
       auto t0 = Clock::now();
@@ -324,7 +330,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       factor = std::make_shared<LuFactor>(factorised_once ? reuse : first);
       factorised_once = true;
       solved =
-          solve_kept(net, p.tangent, p.kept, r0, *factor, p.dq, timings, true, eta, &unbalanced);
+          solve_kept(net, p.tangent, p.kept, r0, *factor, p.dq, timings, &pinned_test, &unbalanced);
     }
     if (solved == Solve::singular) {
       // A disk left with one closed contact (its others open under these statuses) has a

@@ -21,16 +21,18 @@ namespace granstab::statics {
 
 Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
                      const LuFactor& lu, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                     bool check_pinned, double tolerance, std::vector<int>* out_of_balance) {
+                     const PinnedRowTest* test, std::vector<int>* out_of_balance) {
   const Reduction r = make_reduction(kept);
   Eigen::VectorXd reduced;
   if (!lu.try_solve(reduce(b, r), reduced)) return Solve::singular;
   x = expand(reduced, r, static_cast<int>(k.rows()));
-  if (!check_pinned || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
+  if (!test || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
     return Solve::solved;
-  const Eigen::VectorXd misfit = k * x - b;
+  // R(x) ~ b - K x: the dropped rows keep -misfit, of which the start's residual is not the step's.
+  Eigen::VectorXd misfit = k * x - b;
+  if (test->start_residual) misfit += *test->start_residual;
   const Eigen::VectorXd size = k.cwiseAbs() * x.cwiseAbs() + b.cwiseAbs();
-  const double limit = tolerance * std::max(size.maxCoeff(), 1e-300);
+  const double limit = test->tolerance * std::max(size.maxCoeff(), 1e-300);
   double worst = 0.0;
   for (std::size_t i = 0; i < kept.size(); ++i)
     if (!kept[i]) worst = std::max(worst, std::abs(misfit[i]));
@@ -47,12 +49,11 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
 
 Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
                  const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
-                 bool check_pinned, double tolerance, std::vector<int>* out_of_balance) {
+                 const PinnedRowTest* test, std::vector<int>* out_of_balance) {
   const auto t0 = Clock::now();
-  const Solve outcome =
-      lu.factorize(reduce(k, make_reduction(kept)))
-          ? solve_factored(net, k, kept, lu, b, x, check_pinned, tolerance, out_of_balance)
-          : Solve::singular;
+  const Solve outcome = lu.factorize(reduce(k, make_reduction(kept)))
+                            ? solve_factored(net, k, kept, lu, b, x, test, out_of_balance)
+                            : Solve::singular;
   if (timings) {
     timings->factorisation += seconds_since(t0);
     ++timings->factorisations;

@@ -123,6 +123,9 @@ struct PredictorResult {
   std::vector<char> kept;            // dofs kept (floppy rotations pinned)
   std::vector<char> ever_sliding;    // per contact: sliding in some iterate of the loop
   std::shared_ptr<LuFactor> factor;  // LU of K(statuses) on the kept dofs (when ok)
+  // R(0) at the state's own load (set by the stability check): a step's loop from this state, to
+  // which this result is `warm`, takes it off the misfit of its dropped rows (solve_factored).
+  Eigen::VectorXd start_residual;
 };
 
 // Piecewise-linear complementarity problem at the start of the step, by iterating statuses and

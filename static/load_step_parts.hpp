@@ -18,24 +18,30 @@ inline double seconds_since(Clock::time_point t0) {
 
 enum class Solve { solved, singular, pinned_out_of_balance };
 
-// Solves K x = b on the kept dofs with a factor of the reduced K (pinned dofs stay 0). With
-// check_pinned, the rows of pinned gear rotations must hold too (see kept_dofs): the predictor's
-// test of a status set. The misfit of the pinned rows is compared with the largest size of the
-// terms of a row, max_i (|K| |x| + |b|)_i, so that the round-off of K x (O(1e-16 cond(K)) of
-// that) never decides it; a genuine misfit (sliding forces doing work in a gear mode) is a
-// finite fraction of it.
+// Solves K x = b on the kept dofs with a factor of the reduced K (pinned dofs stay 0). With a
+// test, the rows of pinned gear rotations must hold too (see kept_dofs): the predictor's test of a
+// status set. The misfit of the pinned rows is compared with the largest size of the terms of a
+// row, max_i (|K| |x| + |b|)_i, so that the round-off of K x (O(1e-16 cond(K)) of that) never
+// decides it; a genuine misfit (sliding forces doing work in a gear mode) is a finite fraction of
+// it. A step's b = R(0) holds the start's own residual too (the corrector's leftover, the cone
+// re-projection of `advance`): given, it is taken off, so that the rows are judged on the step's
+// forces alone. It does not shrink with the step as they do: at 5.6e-10 (4.5 times the
+// corrector's tolerance) on two dropped disks it failed a step of 4.9e-7, and the run ended in
+// its halves (series A, N = 3025, docs/notes/2026-12-06-lone-contacts.md).
 // The corrector's backtracking on |R| judges its steps itself. out_of_balance receives the disks
 // whose dropped dofs (pinned gear rotations, or all dofs of a disk whose contacts are all open)
 // carry such a misfit.
+struct PinnedRowTest {
+  double tolerance = 0.0;                           // times max_i (|K| |x| + |b|)_i
+  const Eigen::VectorXd* start_residual = nullptr;  // part of b that is not the step's
+};
 Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
                      const LuFactor& lu, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                     bool check_pinned, double tolerance,
-                     std::vector<int>* out_of_balance = nullptr);
+                     const PinnedRowTest* test, std::vector<int>* out_of_balance = nullptr);
 // The same after factorising the reduced K into lu (timed and counted in timings).
 Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
                  const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
-                 bool check_pinned, double tolerance = 0.0,
-                 std::vector<int>* out_of_balance = nullptr);
+                 const PinnedRowTest* test, std::vector<int>* out_of_balance = nullptr);
 
 // Chord iterations with the predictor's factor: the tangent changes by O(step) inside a step, so
 // they usually reach the tolerance without a new factorisation. Returns the point reached; the

@@ -62,9 +62,11 @@ PredictorResult check_state(const Network& net, double lambda, double step, cons
   path(probe, lambda + 1e-6 * step);
   // The pure load increment: the residual left by the corrector (~1e-10) must not steer it.
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
-  const Eigen::VectorXd increment = residual(probe, zero, evaluate_contacts(probe, zero)) -
-                                    residual(net, zero, evaluate_contacts(net, zero));
-  return predict(probe, options, timings, &increment);
+  Eigen::VectorXd start = residual(net, zero, evaluate_contacts(net, zero));
+  const Eigen::VectorXd increment = residual(probe, zero, evaluate_contacts(probe, zero)) - start;
+  PredictorResult check = predict(probe, options, timings, &increment);
+  check.start_residual = std::move(start);
+  return check;
 }
 
 // §S3.3 adaptive: the load increment from the state to the first status event along the rate of

@@ -78,6 +78,33 @@ TEST(DroppedDisk, WithoutResolvingTheLoopReportsTheDroppedRows) {
   EXPECT_TRUE(r.unbalanced_rows);  // so that the step floor retries it resolved
 }
 
+// A step's right-hand side R(0) holds the start's own residual (the corrector's leftover, ~1e-10
+// of the mean force) as well as the step's load. On dropped rows the solve cannot balance it, and
+// it does not shrink with the step: given by the check of the state (start_residual), it is taken
+// off, so that a start residual alone never fails a step, however small the step. The same
+// residual with no start_residual known still fails; a push of the step itself fails either way.
+TEST(DroppedDisk, TheStartsResidualIsNotTheStepsForce) {
+  const SolverOptions options;
+  const double leftover = 5e-10;  // series A N = 3025 had 5.6e-10 on a dropped disk
+  Pushed p;
+  p.net.loading.dead[0] += 0.01 - leftover;  // disk 0 off balance by its start residual alone
+  p.net.loading.dead[1] += 0.01 - leftover;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.net.dofs.size);
+  const Eigen::VectorXd start = residual(p.net, zero, evaluate_contacts(p.net, zero));
+  EXPECT_NEAR(std::abs(start[p.net.dofs.ux[0]]), leftover, 1e-12);
+
+  const PredictorResult unknown = predict(p.net, options, nullptr, nullptr, &p.warm, false);
+  EXPECT_EQ(unknown.failure, "dropped rows out of balance");
+
+  p.warm.start_residual = start;
+  const PredictorResult known = predict(p.net, options, nullptr, nullptr, &p.warm, false);
+  EXPECT_TRUE(known.ok) << known.failure;
+
+  p.net.loading.dead[0] -= 1e-3;  // the step's own push on disk 0's rows
+  const PredictorResult pushed = predict(p.net, options, nullptr, nullptr, &p.warm, false);
+  EXPECT_EQ(pushed.failure, "dropped rows out of balance");
+}
+
 // Resolved, a step's predictor ends consistent with disk 0 let go (its dofs dropped, increment 0);
 // the check (a given right-hand side) still refuses the statuses.
 TEST(DroppedDisk, ResolvedThePredictorLetsTheDiskGoButTheCheckDoesNot) {
