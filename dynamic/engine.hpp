@@ -137,6 +137,7 @@ class Engine {
   std::uint64_t alone_step_count() const { return choice_.alone_steps; }
 
  private:
+  static void check_axis(int axis);  // throws std::invalid_argument unless 0 or 1
   bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
   // Whether a step keeps the mid-step velocities apart (DiskArrays::vhx ..): on a team split into
   // parts, whose halo pairs read another part's while its thread kicks them. One part kicks over
