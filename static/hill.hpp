@@ -70,10 +70,11 @@ NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* 
 // Counters of this thread's negative_eigenvalues work (bench/static).
 struct NegativeEigenvalueStatistics {
   long calls = 0;
-  long witnessed = 0;       // calls whose witness spared the LDL^T
-  long arnoldi = 0;         // calls that ran the Arnoldi iteration (indefinite symmetric part)
-  long arnoldi_solves = 0;  // solves with the LU of K in those
-  long dense = 0;           // calls that ended in the dense eigensolver
+  long witnessed = 0;          // calls whose witness spared the LDL^T
+  long arnoldi = 0;            // calls that ran the Arnoldi iteration (indefinite symmetric part)
+  long arnoldi_solves = 0;     // solves with the LU of K in those
+  long arnoldi_confirmed = 0;  // calls whose screening found a value that may count (rerun)
+  long dense = 0;              // calls that ended in the dense eigensolver
   double symmetric_seconds = 0.0;  // the symmetric part's inertia (thread CPU)
   double arnoldi_seconds = 0.0;    // Arnoldi incl. its solves (thread CPU)
 };

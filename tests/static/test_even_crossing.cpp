@@ -166,6 +166,37 @@ TEST(NegativeEigenvalues, ArnoldiStartedFromTheLastStateFindsTheSameInFewerSolve
               warm_solves);
 }
 
+// The Arnoldi screens at a loose tolerance and reruns at the tight one only where an eigenvalue
+// found has a negative real part (negative_eigenvalues.cpp): no value of those can be missed or
+// miscounted by the screening, and where none is negative nearest_zero is still that of K.
+TEST(NegativeEigenvalues, TheTightArnoldiDecidesWhereAValueHasANegativeRealPart) {
+  NegativeEigenvalueStatistics& statistics = negative_eigenvalue_statistics();
+  std::vector<double> tail;
+  for (int i = 0; i < 40; ++i) tail.push_back(1.0 + 0.37 * i);
+  // The number of tight runs, after checking the count and the eigenvalue nearest 0.
+  const auto run = [&](const SparseMatrix& k, int real, double nearest) -> long {
+    LuFactor lu;
+    EXPECT_TRUE(lu.factorize(k));
+    const long confirmed = statistics.arnoldi_confirmed;
+    const NegativeEigenvalues e = negative_eigenvalues(k, &lu);
+    EXPECT_TRUE(e.ok);
+    EXPECT_EQ(e.real, real);
+    EXPECT_NEAR(e.nearest_zero, nearest, 1e-6 * nearest);
+    return statistics.arnoldi_confirmed - confirmed;
+  };
+  // Indefinite symmetric part, every eigenvalue of K with a positive real part (0.3 +- i sqrt(24)
+  // nearest 0 after the tail's 1): the screening decides.
+  SparseMatrix stable = blocks({{0.3, 4.0, 0.0}}, {}, tail);
+  stable.coeffRef(0, 1) = 6.0;
+  stable.coeffRef(1, 0) = -4.0;
+  EXPECT_EQ(run(stable, 0, 1.0), 0);
+  // Flutter (-0.3 +- 0.5 i): no real negative eigenvalue, but the tight run decides that.
+  const double flutter = std::hypot(0.3, 0.5);
+  EXPECT_EQ(run(blocks({{-0.3, 0.5, 0.0}}, {}, tail), 0, flutter), 1);
+  // Two real negative eigenvalues near 0 (-0.2 +- 0.1) beside the flutter pair.
+  EXPECT_EQ(run(blocks({{-0.3, 0.5, 0.0}}, {{-0.2, 0.1}}, tail), 2, 0.1), 1);
+}
+
 // Three disks of radius 1/2 per period along x (spacing d = 1 - F/K_N), rotations and e2 fixed,
 // the translation pinned on disk 0: the transverse displacements of disks 1 and 2 have the
 // stiffness matrix k [[2, -1], [-1, 2]] with k = K_T - F/d, eigenvalues k and 3k. Both cross zero
