@@ -158,9 +158,8 @@ int main(int argc, char** argv) {
           lu.phase_krylov_failed[ph], lu.phase_krylov_iterations[ph], lu.phase_krylov_seconds[ph]);
     const statics::NegativeEigenvalueStatistics& e = statics::negative_eigenvalue_statistics();
     std::printf(
-        "negative_eigenvalues: %ld calls, symmetric inertia %.2f s CPU; %ld Arnoldi (%ld "
-        "confirmed, "
-        "%ld solves, %.2f s CPU), %ld dense\n",
+        "negative_eigenvalues: %ld calls, symmetric inertia %.2f s CPU; "
+        "%ld Arnoldi (%ld confirmed, %ld solves, %.2f s CPU), %ld dense\n",
         e.calls, e.symmetric_seconds, e.arnoldi, e.arnoldi_confirmed, e.arnoldi_solves,
         e.arnoldi_seconds, e.dense);
   }

@@ -167,8 +167,8 @@ TEST(NegativeEigenvalues, ArnoldiStartedFromTheLastStateFindsTheSameInFewerSolve
 }
 
 // The Arnoldi screens at a loose tolerance and reruns at the tight one only where an eigenvalue
-// found has a negative real part (negative_eigenvalues.cpp): no value of those can be missed or
-// miscounted by the screening, and where none is negative nearest_zero is still that of K.
+// found has a negative real part (negative_eigenvalues.cpp): every count comes from the tight run,
+// and where the screening decides alone its nearest_zero is still that of K.
 TEST(NegativeEigenvalues, TheTightArnoldiDecidesWhereAValueHasANegativeRealPart) {
   NegativeEigenvalueStatistics& statistics = negative_eigenvalue_statistics();
   std::vector<double> tail;
