@@ -11,7 +11,6 @@
 #include "contact_forces_law.hpp"
 #include "contact_forces_simd.hpp"
 #include "force_pass_team.hpp"
-#include "wall_forces.hpp"
 
 namespace granstab::dynamic {
 namespace {
@@ -396,134 +395,6 @@ template <bool Periodic>
   mirror_forces<Periodic, Sweep::evaluate>(d, m, in, part);
 }
 
-// Viscous force only, at the velocities of in, of the closed pairs of s listed in s.active
-// [closed_begin, closed_end) by the force pass (whose frame it stored): stored in the pair and
-// handed to add(p, i, j, fvx, fvy, dx, dy) in that order. The opened pairs listed in
-// [opened_begin, opened_end) drop their share.
-template <bool Periodic, class Add>
-[[gnu::always_inline]] inline void viscous_sweep(PairState& s, const ForceInputs& in,
-                                                 int closed_begin, int closed_end, int opened_begin,
-                                                 int opened_end, Add add) {
-  const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
-  const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
-  const double* const vvx = in.vx_viscous;
-  const double* const vvy = in.vy_viscous;
-  for (int k = opened_begin; k < opened_end; ++k) {
-    const int p = s.active[k];
-    s.viscous_x[p] = s.viscous_y[p] = 0.0;
-  }
-  for (int k = closed_begin; k < closed_end; ++k) {
-    const int p = s.active[k];
-    const int i = s.i[p], j = s.j[p];
-    const double dx = s.lx[p], dy = s.ly[p];
-    ContactFrame f{};
-    f.nx = s.nx[p];
-    f.ny = s.ny[p];
-    const double affine_vx = Periodic ? rate_v1 * dx : 0.0;
-    const double affine_vy = Periodic ? rate_v2 * dy : 0.0;
-    const double h_rate =
-        deflection_rate(f, vvx[j] - vvx[i] + affine_vx, vvy[j] - vvy[i] + affine_vy);
-    const double f_v = s.alpha[p] * h_rate;  // as contact_force() computes it
-    const double fvx = f_v * f.nx, fvy = f_v * f.ny;
-    s.viscous_x[p] = fvx;
-    s.viscous_y[p] = fvy;
-    add(p, i, j, fvx, fvy, dx, dy);
-  }
-}
-
-// The viscous forces of block b's pairs (rows of the disks [first, end)).
-template <bool Crossing, bool Periodic>
-[[gnu::always_inline]] inline void pair_viscous(DiskArrays& d, PairArrays& pairs,
-                                                const ForceInputs& in, int b, int first, int end,
-                                                BlockSums& sums) {
-  double* const fvx_sum = d.fvx.data();
-  double* const fvy_sum = d.fvy.data();
-  const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
-  viscous_sweep<Periodic>(pairs, in, range_begin, range_begin + pairs.block_closed[b],
-                          range_end - pairs.block_opened[b], range_end,
-                          [&](int p, int i, int j, double fvx, double fvy, double dx, double dy) {
-                            sums.sigma_viscous[0] += fvx * dx;
-                            sums.sigma_viscous[1] += fvy * dy;
-                            // Rows in ascending i: j's sum gets its column part, i's its row part,
-                            // in order.
-                            if (!Crossing || !pairs.crossing[p]) {
-                              fvx_sum[j] += fvx;
-                              fvy_sum[j] += fvy;
-                            }
-                            fvx_sum[i] -= fvx;
-                            fvy_sum[i] -= fvy;
-                          });
-}
-
-// The same for the mirrors of `part`, to their disk j only (before the part's rows).
-template <bool Periodic>
-[[gnu::always_inline]] inline void mirror_viscous(DiskArrays& d, MirrorPairs& m,
-                                                  const ForceInputs& in, int part) {
-  double* const fvx_sum = d.fvx.data();
-  double* const fvy_sum = d.fvy.data();
-  const int begin = m.part_start[part], end = m.part_start[part + 1];
-  viscous_sweep<Periodic>(m, in, begin, begin + m.part_closed[part], end - m.part_opened[part], end,
-                          [&](int, int, int j, double fvx, double fvy, double, double) {
-                            fvx_sum[j] += fvx;
-                            fvy_sum[j] += fvy;
-                          });
-}
-
-// The disk's forces once its pair sums are complete: walls, then the external force, then
-// (if asked) the second half kick.
-[[gnu::always_inline]] inline void finish_disk(DiskArrays& d, const ForceInputs& in,
-                                               const Cell& cell, int i, bool viscous_only,
-                                               RowSums s, BlockSums& sums) {
-  if (!in.periodic) {
-    wall_forces(d, in, cell, i, viscous_only, s.fx, s.fy, s.fvx, s.fvy, s.torque, sums);
-  }
-  d.fvx[i] = s.fvx;
-  d.fvy[i] = s.fvy;
-  if (viscous_only) return;
-  if (!d.ext_fx.empty()) {
-    s.fx += d.ext_fx[i];
-    s.fy += d.ext_fy[i];
-  }
-  d.fx[i] = s.fx;
-  d.fy[i] = s.fy;
-  d.torque[i] = s.torque;
-  if (in.kick) {
-    const double half = 0.5 * in.dt;
-    d.vx[i] = in.vx[i] + half * (s.fx + s.fvx) * d.inv_mass[i];  // from the mid-step ones
-    d.vy[i] = in.vy[i] + half * (s.fy + s.fvy) * d.inv_mass[i];
-    d.omega[i] = in.omega[i] + half * s.torque * d.inv_inertia[i];
-    // The viscous pass that follows adds the viscous forces of the final velocities into
-    // these (compute_viscous_forces).
-    d.fvx[i] = 0.0;
-    d.fvy[i] = 0.0;
-  }
-}
-
-// Calls f.operator()<Crossing, Periodic>() with the two flags as compile-time constants (the
-// pair loops are specialised on them).
-template <class F>
-void with_flags(bool crossing, bool periodic, F f) {
-  const auto on_periodic = [&]<bool Crossing>() {
-    if (periodic) {
-      f.template operator()<Crossing, true>();
-    } else {
-      f.template operator()<Crossing, false>();
-    }
-  };
-  if (crossing) {
-    on_periodic.template operator()<true>();
-  } else {
-    on_periodic.template operator()<false>();
-  }
-}
-
-Cell cell_of(const ForceInputs& in) {
-  Cell cell;
-  cell.boundary = in.periodic ? Boundary::periodic : Boundary::walls;
-  cell.length = in.length;
-  return cell;
-}
-
 }  // namespace
 
 namespace {
@@ -640,29 +511,6 @@ void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays
     finish_disk(disks, in, cell, i, false, s, sums);
   };
   run_part(member, disks, pairs, blocks, clear, mirrors, rows, true, finish);
-}
-
-void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
-                         const ForceInputs& in, std::vector<BlockSums>& blocks) {
-  const Cell cell = cell_of(in);
-  const auto clear = [](int, int) {};  // the force pass with the kick left zeros
-  const auto mirrors = [&](int part) {
-    with_flags(false, in.periodic, [&]<bool, bool Periodic>() {
-      mirror_viscous<Periodic>(disks, pairs.mirrors, in, part);
-    });
-  };
-  const auto rows = [&](int b, int first, int end, BlockSums& sums) {
-    with_flags(
-        pairs.block_crossing[b],
-        in.periodic, [&]<bool Crossing, bool Periodic>() __attribute__((noinline)) {
-          pair_viscous<Crossing, Periodic>(disks, pairs, in, b, first, end, sums);
-        });
-  };
-  const auto finish = [&](int i, BlockSums& sums) {
-    finish_disk(disks, in, cell, i, true, RowSums{0.0, 0.0, disks.fvx[i], disks.fvy[i], 0.0}, sums);
-  };
-  // Periodic cells: the sums are complete after the rows; walls add their viscous forces.
-  run_part(member, disks, pairs, blocks, clear, mirrors, rows, !in.periodic, finish);
 }
 
 BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,

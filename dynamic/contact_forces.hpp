@@ -59,9 +59,10 @@ void size_passes(std::size_t n, PairArrays& pairs, std::vector<BlockSums>& block
 void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
                          const ForceInputs& in, std::vector<BlockSums>& blocks);
 
-// The viscous forces alone, for the velocities in.vx_viscous / in.rate_viscous, with the
-// contact geometry of the last contact_forces_part, which must have been run with in.kick
-// (fills disks.fvx, fvy). No barrier inside: the block sums are complete after the next one.
+// The viscous forces alone (viscous_forces.cpp), for the velocities in.vx_viscous /
+// in.rate_viscous, with the contact geometry of the last contact_forces_part, which must have
+// been run with in.kick (fills disks.fvx, fvy). No barrier inside: the block sums are complete
+// after the next one.
 void viscous_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
                          const ForceInputs& in, std::vector<BlockSums>& blocks);
 

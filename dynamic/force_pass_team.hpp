@@ -1,8 +1,8 @@
 #pragma once
-// The force pass's run over a team's parts (mirrors, rows, disks, sums), apart from the pair
-// physics.
-// Included by contact_forces.cpp only, in an anonymous namespace: the force pass stays one
-// translation unit, so the compiler inlines the sweeps into run_part().
+// A pass's run over a team's parts (mirrors, rows, disks, sums) and each disk's completion
+// (walls, external force, half kick), apart from the pair physics. Included, in an anonymous
+// namespace, by the two passes of a step (contact_forces.cpp, viscous_forces.cpp), so that each
+// stays one translation unit and the compiler inlines its sweeps into run_part().
 #include <omp.h>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 
 #include "contact_forces.hpp"
 #include "team.hpp"
+#include "wall_forces.hpp"
 
 namespace granstab::dynamic {
 namespace {
@@ -18,8 +19,8 @@ namespace {
 // the wall forces are zeros (+0), which leave a sum that starts at +0 unchanged: they are not
 // read, which spares each thread the lines the others wrote (cross-core misses, ~230 ns each on
 // the AMD VM; 2 x 176 blocks per step at N = 5600).
-void fold_blocks(BlockSums& total, const std::vector<BlockSums>& blocks, int begin, int end,
-                 bool periodic) {
+inline void fold_blocks(BlockSums& total, const std::vector<BlockSums>& blocks, int begin, int end,
+                        bool periodic) {
   for (int b = begin; b < end; ++b) {
     for (int k = 0; k < 4; ++k) total.sigma[k] += blocks[b].sigma[k];
     for (int k = 0; k < 2; ++k) total.sigma_viscous[k] += blocks[b].sigma_viscous[k];
@@ -31,7 +32,7 @@ void fold_blocks(BlockSums& total, const std::vector<BlockSums>& blocks, int beg
   }
 }
 
-BlockSums add_blocks(const std::vector<BlockSums>& blocks, int nb, bool periodic) {
+inline BlockSums add_blocks(const std::vector<BlockSums>& blocks, int nb, bool periodic) {
   BlockSums total;
   fold_blocks(total, blocks, 0, periodic ? nb : 2 * nb, periodic);
   return total;
@@ -71,6 +72,61 @@ void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
       blocks[nb + b] = disk_sums;
     }
   }
+}
+
+// The disk's forces once its pair sums are complete: walls, then the external force, then
+// (if asked) the second half kick.
+[[gnu::always_inline]] inline void finish_disk(DiskArrays& d, const ForceInputs& in,
+                                               const Cell& cell, int i, bool viscous_only,
+                                               RowSums s, BlockSums& sums) {
+  if (!in.periodic) {
+    wall_forces(d, in, cell, i, viscous_only, s.fx, s.fy, s.fvx, s.fvy, s.torque, sums);
+  }
+  d.fvx[i] = s.fvx;
+  d.fvy[i] = s.fvy;
+  if (viscous_only) return;
+  if (!d.ext_fx.empty()) {
+    s.fx += d.ext_fx[i];
+    s.fy += d.ext_fy[i];
+  }
+  d.fx[i] = s.fx;
+  d.fy[i] = s.fy;
+  d.torque[i] = s.torque;
+  if (in.kick) {
+    const double half = 0.5 * in.dt;
+    d.vx[i] = in.vx[i] + half * (s.fx + s.fvx) * d.inv_mass[i];  // from the mid-step ones
+    d.vy[i] = in.vy[i] + half * (s.fy + s.fvy) * d.inv_mass[i];
+    d.omega[i] = in.omega[i] + half * s.torque * d.inv_inertia[i];
+    // The viscous pass that follows adds the viscous forces of the final velocities into
+    // these (compute_viscous_forces).
+    d.fvx[i] = 0.0;
+    d.fvy[i] = 0.0;
+  }
+}
+
+// Calls f.operator()<Crossing, Periodic>() with the two flags as compile-time constants (the
+// pair loops are specialised on them).
+template <class F>
+void with_flags(bool crossing, bool periodic, F f) {
+  const auto on_periodic = [&]<bool Crossing>() {
+    if (periodic) {
+      f.template operator()<Crossing, true>();
+    } else {
+      f.template operator()<Crossing, false>();
+    }
+  };
+  if (crossing) {
+    on_periodic.template operator()<true>();
+  } else {
+    on_periodic.template operator()<false>();
+  }
+}
+
+Cell cell_of(const ForceInputs& in) {
+  Cell cell;
+  cell.boundary = in.periodic ? Boundary::periodic : Boundary::walls;
+  cell.length = in.length;
+  return cell;
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #pragma once
 // The disk-wall contacts of the force pass (walls boundary, SPEC §1.2): the wall is the partner,
-// infinitely heavy, with the law of common/contact_law.hpp. Included by contact_forces.cpp only,
-// in an anonymous namespace: the force pass stays one translation unit, so the compiler inlines
-// these into the hot loop as it does the pair kernels.
+// infinitely heavy, with the law of common/contact_law.hpp. Included by force_pass_team.hpp only,
+// in an anonymous namespace: each pass stays one translation unit, so the compiler inlines these
+// into the hot loop as it does the pair kernels.
 #include <array>
 
 #include "contact_forces.hpp"
