@@ -119,6 +119,22 @@ bool factorize_klu(NumericLu& lu, bool& reused) {
   return true;
 }
 
+void NumericLu::solve_columns(int sys, Eigen::MatrixXd& x) const {
+  const int n = static_cast<int>(x.rows()), nrhs = static_cast<int>(x.cols());
+  if (nrhs == 0) return;
+  if (!klu) {
+    for (int c = 0; c < nrhs; ++c) x.col(c) = solve(sys, Eigen::VectorXd(x.col(c)), false);
+    return;
+  }
+  // KLU works in chunks of up to four columns, with every column's operations those of a
+  // one-column solve in the same order: the same bits (checked by the curves of bench_static).
+  klu_symbolic* symbolic = analysis->symbolic;
+  const int ok = sys == UMFPACK_At ? klu_tsolve(symbolic, klu, n, nrhs, x.data(), &klu_settings())
+                                   : klu_solve(symbolic, klu, n, nrhs, x.data(), &klu_settings());
+  if (!ok) throw std::runtime_error("KLU solve failed");
+  lu_statistics().unrefined_solves += nrhs;
+}
+
 // With refine, up to 2 steps of iterative refinement against k, as UMFPACK's solve does: stop
 // when the componentwise backward error is at round-off, or when a step does not halve it (then
 // the better of the last two solutions is kept).

@@ -84,12 +84,10 @@ std::unique_ptr<LowRankUpdate> low_rank_update(const SparseMatrix& k,
   up->u = qr.householderQ() * Eigen::MatrixXd::Identity(block.rows(), r);
   const Eigen::MatrixXd r_top = qr.matrixR().topRows(r).triangularView<Eigen::Upper>();
   up->v = (r_top * qr.colsPermutation().transpose()).transpose();
-  up->z.resize(n, r);
-  for (Eigen::Index c = 0; c < r; ++c) {
-    Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
-    for (std::size_t a = 0; a < up->rows.size(); ++a) e[up->rows[a]] = up->u(a, c);
-    up->z.col(c) = up->base->solve(UMFPACK_A, e, false);
-  }
+  up->z = Eigen::MatrixXd::Zero(n, r);
+  for (Eigen::Index c = 0; c < r; ++c)
+    for (std::size_t a = 0; a < up->rows.size(); ++a) up->z(up->rows[a], c) = up->u(a, c);
+  up->base->solve_columns(UMFPACK_A, up->z);
   Eigen::MatrixXd cap = Eigen::MatrixXd::Identity(r, r);
   for (std::size_t a = 0; a < up->cols.size(); ++a)
     cap += up->v.row(a).transpose() * up->z.row(up->cols[a]);

@@ -25,12 +25,10 @@ struct LowRankUpdate {
     const std::vector<int>& right_support = transposed ? rows : cols;
     const Eigen::MatrixXd& right = transposed ? u : v;
     if (transposed && zt.cols() != r) {
-      zt.resize(b.size(), r);
-      for (Eigen::Index c = 0; c < r; ++c) {
-        Eigen::VectorXd e = Eigen::VectorXd::Zero(b.size());
-        for (std::size_t a = 0; a < cols.size(); ++a) e[cols[a]] = v(a, c);
-        zt.col(c) = base->solve(UMFPACK_At, e, false);
-      }
+      zt = Eigen::MatrixXd::Zero(b.size(), r);
+      for (Eigen::Index c = 0; c < r; ++c)
+        for (std::size_t a = 0; a < cols.size(); ++a) zt(cols[a], c) = v(a, c);
+      base->solve_columns(UMFPACK_At, zt);
     }
     const Eigen::VectorXd y = base->solve(transposed ? UMFPACK_At : UMFPACK_A, b, false);
     Eigen::VectorXd t(r);

@@ -177,6 +177,10 @@ struct NumericLu {
   }
   // The same with KLU's factors (klu_factor.cpp).
   Eigen::VectorXd solve_klu(bool transposed, const Eigen::VectorXd& b, bool refine) const;
+  // Each column of x replaced by its unrefined solve (the same bits as solve(sys, column,
+  // false)). KLU solves up to four columns in one sweep of its factors, which a solve reads from
+  // memory once instead of once per column (klu_factor.cpp); UMFPACK one column at a time.
+  void solve_columns(int sys, Eigen::MatrixXd& x) const;
 };
 
 // Factorises lu.k (compressed) with KLU, the analysis of its pattern taken from this thread's

@@ -16,6 +16,7 @@
 #include "lu_test_matrices.hpp"
 #include "static/linear_solvers.hpp"
 #include "static/load_step.hpp"
+#include "static/numeric_lu.hpp"
 #include "static/tangent.hpp"
 
 namespace granstab::statics {
@@ -83,6 +84,31 @@ TEST(LuLowRank, RandomRankOneChangesMatchAFreshLu) {
   SparseMatrix k = rank_one_change(k0, 7, {7, 40, 100}, 0.8);
   k = rank_one_change(k, 150, {3, 150}, -1.3);
   EXPECT_EQ(expect_update_matches_fresh_lu(k0, k, 1e-12), 2);
+}
+
+// The Woodbury columns K0^-1 U are solved together (KLU sweeps its factors once per four
+// columns): the same bits as one solve per column, in both directions, for 1 to 9 columns
+// (whole chunks of four and the rest).
+TEST(LuLowRank, SolvesOfSeveralColumnsAreTheBitsOfOneColumnSolves) {
+  NumericLu lu;
+  lu.k = grid_matrix(12, 7u, 4.0);
+  bool reused = false;
+  ASSERT_TRUE(factorize_klu(lu, reused));
+  const Eigen::Index n = lu.k.rows();
+  for (const int sys : {UMFPACK_A, UMFPACK_At})
+    for (int columns = 1; columns <= 9; ++columns) {
+      Eigen::MatrixXd x(n, columns);
+      for (int c = 0; c < columns; ++c)
+        x.col(c) = Eigen::VectorXd::LinSpaced(n, -1.0 - c, 2.0 + 0.5 * c).array().sin();
+      const Eigen::MatrixXd b = x;
+      lu.solve_columns(sys, x);
+      for (int c = 0; c < columns; ++c) {
+        const Eigen::VectorXd one = lu.solve(sys, b.col(c), false);
+        for (Eigen::Index i = 0; i < n; ++i)
+          ASSERT_EQ(x(i, c), one[i])
+              << "sys " << sys << ", " << columns << " columns, column " << c << ", row " << i;
+      }
+    }
 }
 
 TEST(LuLowRank, DeterminantSignFollowsTheUpdate) {
