@@ -200,12 +200,14 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
 void forget_lcp_supports() { lcp_memory = {}; }
 
 PredictorResult predict(const Network& net, const SolverOptions& options, Timings* timings,
-                        const Eigen::VectorXd* rhs, const PredictorResult* warm, bool determinant) {
+                        const Eigen::VectorXd* rhs, const PredictorResult* warm, bool determinant,
+                        std::vector<ContactState>* start_states) {
   const auto loop_start = Clock::now();
   const SolvePhase phase_before = lu_statistics().phase;
   PredictorResult p;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
-  const std::vector<ContactState> states = evaluate_contacts(net, zero);
+  p.start_states = start_states ? std::move(*start_states) : evaluate_contacts(net, zero);
+  const std::vector<ContactState>& states = p.start_states;
   const Eigen::VectorXd r0 = rhs ? *rhs : residual(net, zero, states);
   p.statuses = classify_contacts(states);
   if (warm && warm->ok && warm->statuses.size() == states.size()) {

@@ -130,7 +130,7 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
   const auto t0 = Clock::now();
   Network trial = net;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(trial.dofs.size);
-  const ResidualScale scale = residual_scale(trial, evaluate_contacts(trial, zero));
+  const ResidualScale scale = residual_scale(trial, step.predictor.start_states);
   const SolvePhase phase_before = lu_statistics().phase;
   lu_statistics().phase = SolvePhase::chord;
   Eigen::VectorXd dq = chord_iterations(trial, step.predictor, step.predictor.dq, scale, options);

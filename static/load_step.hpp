@@ -126,6 +126,9 @@ struct PredictorResult {
   // R(0) at the state's own load (set by the stability check): a step's loop from this state, to
   // which this result is `warm`, takes it off the misfit of its dropped rows (solve_factored).
   Eigen::VectorXd start_residual;
+  // The contacts at the start of the increment (net, dq = 0), as the loop evaluated them: the
+  // caller's, which need not evaluate them again.
+  std::vector<ContactState> start_states;
 };
 
 // Piecewise-linear complementarity problem at the start of the step, by iterating statuses and
@@ -137,9 +140,12 @@ struct PredictorResult {
 // warm given (a loop run at the same state), the loop starts from its statuses instead of
 // classify_contacts, and reuses its factor while the statuses agree. determinant: the sign of
 // det K(statuses) is wanted (with deferred factorisations it costs an LU; without, nothing).
+// start_states: evaluate_contacts(net, 0) if the caller has it (the same bits; not evaluated
+// again).
 PredictorResult predict(const Network& net, const SolverOptions& options,
                         Timings* timings = nullptr, const Eigen::VectorXd* rhs = nullptr,
-                        const PredictorResult* warm = nullptr, bool determinant = true);
+                        const PredictorResult* warm = nullptr, bool determinant = true,
+                        std::vector<ContactState>* start_states = nullptr);
 
 // The status cycles' LCPs over many contacts start from the last one's sliding set (a guess that
 // Lemke replaces where it fails); a run forgets it first, as it forgets its factorisations.

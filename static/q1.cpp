@@ -39,9 +39,10 @@ int count_sliding(const std::vector<ContactState>& states) {
   return n;
 }
 
-CurvePoint measure(const Network& net, double lambda, const std::array<double, 2>& reference) {
+// states: evaluate_contacts(net, 0).
+CurvePoint measure(const Network& net, const std::vector<ContactState>& states, double lambda,
+                   const std::array<double, 2>& reference) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
-  const std::vector<ContactState> states = evaluate_contacts(net, zero);
   CurvePoint p;
   p.load = lambda;
   const std::array<double, 2> sigma = contact_stress(net, zero, states);
@@ -56,16 +57,21 @@ CurvePoint measure(const Network& net, double lambda, const std::array<double, 2
 // The stability check of a state: the consistent statuses of an infinitesimal further increment
 // (only contacts on the cone can change status) and the determinant sign of K on them. A finite
 // increment would let interior contacts reach the cone and report the next event as this state's.
-PredictorResult check_state(const Network& net, double lambda, double step, const LoadPath& path,
+// states: evaluate_contacts(net, 0).
+PredictorResult check_state(const Network& net, const std::vector<ContactState>& states,
+                            double lambda, double step, const LoadPath& path,
                             const SolverOptions& options, Timings* timings) {
   Network probe = net;
   path(probe, lambda + 1e-6 * step);
   // The pure load increment: the residual left by the corrector (~1e-10) must not steer it.
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
-  Eigen::VectorXd start = residual(net, zero, evaluate_contacts(net, zero));
-  const Eigen::VectorXd increment = residual(probe, zero, evaluate_contacts(probe, zero)) - start;
-  PredictorResult check = predict(probe, options, timings, &increment);
+  Eigen::VectorXd start = residual(net, zero, states);
+  std::vector<ContactState> probe_states = evaluate_contacts(probe, zero);
+  const Eigen::VectorXd increment = residual(probe, zero, probe_states) - start;
+  PredictorResult check =
+      predict(probe, options, timings, &increment, nullptr, true, &probe_states);
   check.start_residual = std::move(start);
+  check.start_states = {};  // the probe's: nobody reads them, and last_check copies the check
   return check;
 }
 
@@ -74,13 +80,13 @@ PredictorResult check_state(const Network& net, double lambda, double step, cons
 // contact reaching the cone, or a contact opening. Gaps closing are not predicted (the step then
 // shows the new contact and is redone). The rate is the check's solution for its 1e-6 step, so
 // imposed strains and geometric terms are in it; its round-off (~1e-7 relative) is harmless here.
-double predicted_event(const Network& net, double lambda, double step, const LoadPath& path,
-                       const PredictorResult& check) {
+// s0: evaluate_contacts(net, 0).
+double predicted_event(const Network& net, const std::vector<ContactState>& s0, double lambda,
+                       double step, const LoadPath& path, const PredictorResult& check) {
   if (!check.ok || check.dq.size() != net.dofs.size) return 0.0;
   Network probe = net;
   path(probe, lambda + 1e-6 * step);
   const double dl = (lambda + 1e-6 * step) - lambda;
-  const std::vector<ContactState> s0 = evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
   const std::vector<ContactState> s1 = evaluate_contacts(probe, check.dq);
   double t = std::numeric_limits<double>::infinity();
   const auto reach = [&t](double g0, double g1) {  // g0 + g1 x = 0 with g0 >= 0
@@ -328,7 +334,10 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   result.polish = polish_start(net, options.solver);
   double lambda = lambda0;
   double step = options.dq;
-  CurvePoint point = measure(net, lambda, reference_length);
+  // The contacts of the state (evaluate_contacts(net, 0)): its check, its row and its event use
+  // them.
+  std::vector<ContactState> contacts = evaluate_contacts(net, Eigen::VectorXd::Zero(net.dofs.size));
+  CurvePoint point = measure(net, contacts, lambda, reference_length);
   if (options.on_accepted) options.on_accepted(lambda, net);
 
   // The start itself may already be unstable (no increment has a stable consistent solution).
@@ -336,8 +345,10 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   // loaded disk whose contacts all open stays a failure of a check: §S3.5).
   SolverOptions exact = options.solver;
   exact.resolve_unbalanced_rows = true;
-  PredictorResult check = check_state(net, lambda, step, path, options.solver, &result.timings);
-  if (check.unbalanced_rows) check = check_state(net, lambda, step, path, exact, &result.timings);
+  PredictorResult check =
+      check_state(net, contacts, lambda, step, path, options.solver, &result.timings);
+  if (check.unbalanced_rows)
+    check = check_state(net, contacts, lambda, step, path, exact, &result.timings);
   Spectrum spectrum = spectrum_of(net, check, options.count_negative_eigenvalues);
   int negative = spectrum.negative;
   point.determinant_sign = check.determinant_sign;
@@ -398,12 +409,15 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     bool unbalanced = s.predictor.unbalanced_rows;
     beyond = s.predictor.ever_sliding;
     Spectrum next;
+    std::vector<ContactState> trial_contacts;  // evaluate_contacts(trial, 0), once checked
     const bool big = step > dq_above;
     if (s.ok && big && !same_statuses(last_check, s)) {
       detail = "status change in a step above dq";  // redone at dq below, no check needed
     } else if (s.ok) {
       rebuild_degrees_of_freedom(trial);
-      check = check_state(trial, lambda + step, step, path, solver, &result.timings);
+      trial_contacts = evaluate_contacts(trial, Eigen::VectorXd::Zero(trial.dofs.size));
+      check =
+          check_state(trial, trial_contacts, lambda + step, step, path, solver, &result.timings);
       unbalanced = check.unbalanced_rows;
       next = spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
       negative = next.negative;
@@ -428,10 +442,11 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     if (accepted) {
       at_floor_exact = false;
       net = std::move(trial);
+      contacts = std::move(trial_contacts);
       const double step_taken = step;
       lambda += step;
       ++result.steps;
-      CurvePoint p = measure(net, lambda, reference_length);
+      CurvePoint p = measure(net, contacts, lambda, reference_length);
       p.determinant_sign = check.determinant_sign;
       p.negative_eigenvalues = negative;
       p.newton_iterations = static_cast<int>(s.corrector.residual_history.size()) - 1;
@@ -446,7 +461,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       const bool quiet = same_statuses(last_check, s) && check.statuses == last_check.statuses;
       const double stable_to = adaptive ? stable_span(spectrum, next, quiet, step_taken) : 0.0;
       const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
-      const double event = grow ? predicted_event(net, lambda, step, path, check) : 0.0;
+      const double event = grow ? predicted_event(net, contacts, lambda, step, path, check) : 0.0;
       last_check = check;
       spectrum = std::move(next);  // with its witness and the matrix of a deferred count
       report_progress(lambda);
