@@ -98,7 +98,7 @@ void run_part(const TeamMember& member, DiskArrays& disks, PairArrays& pairs,
     d.vy[i] = in.vy[i] + half * (s.fy + s.fvy) * d.inv_mass[i];
     d.omega[i] = in.omega[i] + half * s.torque * d.inv_inertia[i];
     // The viscous pass that follows adds the viscous forces of the final velocities into
-    // these (compute_viscous_forces).
+    // these (viscous_forces_part).
     d.fvx[i] = 0.0;
     d.fvy[i] = 0.0;
   }

@@ -127,7 +127,8 @@ void NumericLu::solve_columns(int sys, Eigen::MatrixXd& x) const {
     return;
   }
   // KLU works in chunks of up to four columns, with every column's operations those of a
-  // one-column solve in the same order: the same bits (checked by the curves of bench_static).
+  // one-column solve in the same order: the same bits (test
+  // LuLowRank.SolvesOfSeveralColumnsAreTheBitsOfOneColumnSolves).
   klu_symbolic* symbolic = analysis->symbolic;
   const int ok = sys == UMFPACK_At ? klu_tsolve(symbolic, klu, n, nrhs, x.data(), &klu_settings())
                                    : klu_solve(symbolic, klu, n, nrhs, x.data(), &klu_settings());
