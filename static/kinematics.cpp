@@ -139,11 +139,14 @@ ContactState evaluate_contact(const Network& net, std::size_t c, const Eigen::Ve
 
 std::vector<ContactState> evaluate_contacts(const Network& net, const Eigen::VectorXd& dq,
                                             const std::vector<ContactStatus>* forced) {
-  std::vector<ContactState> states(net.contacts.size());
-  for (std::size_t c = 0; c < states.size(); ++c) {
+  // Reserved, not sized: a ContactState is ~0.5 kB, and value-initialising the vector before
+  // overwriting it doubled the memory written (perf: evaluate_contacts' own time and memset).
+  std::vector<ContactState> states;
+  states.reserve(net.contacts.size());
+  for (std::size_t c = 0; c < net.contacts.size(); ++c) {
     std::optional<ContactStatus> f;
     if (forced) f = (*forced)[c];
-    states[c] = evaluate_contact(net, c, dq, f);
+    states.push_back(evaluate_contact(net, c, dq, f));
   }
   return states;
 }
