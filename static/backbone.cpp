@@ -349,27 +349,40 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
   std::vector<char> keep(m.size, 1);
   const std::size_t n = net.n_disks();
   // Rotation graph over sticking frictional force-carrying contacts; ratio[i] = theta_i of the
-  // cluster's gear mode relative to its root.
-  std::vector<std::vector<std::pair<int, double>>> adjacent(n);  // partner, theta_j / theta_i
+  // cluster's gear mode relative to its root. Adjacency in CSR (links of disk i in contact
+  // order), built in two passes: a vector per disk cost an allocation per disk and call (perf).
   std::vector<char> blocked(n, 0);
-  for (std::size_t c = 0; c < states.size(); ++c) {
-    const ContactState& s = states[c];
-    if (statuses[c] == ContactStatus::open || !s.frictional || s.f_n <= 0.0) continue;
-    const int i = net.contacts.i[c], j = net.contacts.j[c];
-    if (statuses[c] != ContactStatus::stick) continue;  // slip leaves theta free
-    if (!gear_link(net, s, statuses[c], c)) {
-      // A sticking wall contact or a self-image contact (2 a theta = 0) forbids the gear mode.
-      if (s.wall || i == j || m.theta[j] < 0) {
-        blocked[i] = 1;
-        if (!s.wall) blocked[j] = 1;
-      } else {
-        blocked[j] = 1;  // m.theta[i] < 0
+  std::vector<int> link_start(n + 1, 0);
+  const auto each_link = [&](auto&& link) {
+    for (std::size_t c = 0; c < states.size(); ++c) {
+      const ContactState& s = states[c];
+      if (statuses[c] == ContactStatus::open || !s.frictional || s.f_n <= 0.0) continue;
+      const int i = net.contacts.i[c], j = net.contacts.j[c];
+      if (statuses[c] != ContactStatus::stick) continue;  // slip leaves theta free
+      if (!gear_link(net, s, statuses[c], c)) {
+        // A sticking wall contact or a self-image contact (2 a theta = 0) forbids the gear mode.
+        if (s.wall || i == j || m.theta[j] < 0) {
+          blocked[i] = 1;
+          if (!s.wall) blocked[j] = 1;
+        } else {
+          blocked[j] = 1;  // m.theta[i] < 0
+        }
+        continue;
       }
-      continue;
+      link(i, j, s);
     }
-    adjacent[i].push_back({j, -s.frame.a_i / s.frame.a_j});
-    adjacent[j].push_back({i, -s.frame.a_j / s.frame.a_i});
-  }
+  };
+  each_link([&](int i, int j, const ContactState&) {
+    ++link_start[i + 1];
+    ++link_start[j + 1];
+  });
+  for (std::size_t i = 0; i < n; ++i) link_start[i + 1] += link_start[i];
+  std::vector<std::pair<int, double>> links(static_cast<std::size_t>(link_start[n]));
+  std::vector<int> next(link_start.begin(), link_start.end() - 1);
+  each_link([&](int i, int j, const ContactState& s) {  // partner, theta_j / theta_i
+    links[next[i]++] = {j, -s.frame.a_i / s.frame.a_j};
+    links[next[j]++] = {i, -s.frame.a_j / s.frame.a_i};
+  });
   std::vector<double> ratio(n, 0.0);
   std::vector<char> seen(n, 0);
   std::vector<int> cluster, stack;
@@ -385,7 +398,8 @@ std::vector<char> kept_dofs(const Network& net, const std::vector<ContactState>&
       stack.pop_back();
       cluster.push_back(i);
       free = free && !blocked[i];
-      for (const auto& [j, r] : adjacent[i]) {
+      for (int l = link_start[i]; l < link_start[i + 1]; ++l) {
+        const auto [j, r] = links[l];
         const double expected = ratio[i] * r;
         if (!seen[j]) {
           seen[j] = 1;
