@@ -140,7 +140,7 @@ ContactState evaluate_contact(const Network& net, std::size_t c, const Eigen::Ve
 std::vector<ContactState> evaluate_contacts(const Network& net, const Eigen::VectorXd& dq,
                                             const std::vector<ContactStatus>* forced) {
   // Reserved, not sized: a ContactState is ~0.5 kB, and value-initialising the vector before
-  // overwriting it doubled the memory written (perf: evaluate_contacts' own time and memset).
+  // overwriting it doubled the memory written (perf: evaluate_contacts' own time).
   std::vector<ContactState> states;
   states.reserve(net.contacts.size());
   for (std::size_t c = 0; c < net.contacts.size(); ++c) {
