@@ -32,10 +32,12 @@ LocalMatrix contact_stiffness(const Network& net, const ContactState& s, Contact
     if (!s.wall) {
       // dn = t (t.dl)/d, dt = -n (t.dl)/d: the frozen forces turn with the branch vector.
       const double gx = s.f_n * f.tx - s.f_t * f.nx, gy = s.f_n * f.ty - s.f_t * f.ny;
+      LocalRow t;  // t.dl per slot, once rather than per row (the same values)
+      for (int b = 0; b < n_local; ++b) t[b] = f.tx * r.dx[b] + f.ty * r.dy[b];
       for (int a = 0; a < n_local; ++a) {
         const double g = gx * r.dx[a] + gy * r.dy[a];
         if (g == 0.0) continue;
-        for (int b = 0; b < n_local; ++b) k[a][b] -= g * (f.tx * r.dx[b] + f.ty * r.dy[b]) / f.d;
+        for (int b = 0; b < n_local; ++b) k[a][b] -= g * t[b] / f.d;
       }
     }
     // Lever arms a = R - h/2 grow with the distance: da = B_N dq / 2 (the wall does not turn).
