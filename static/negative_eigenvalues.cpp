@@ -79,7 +79,8 @@ constexpr int dense_limit = 1500;
 // least 1/64 of it per dq (stable_span, max_step_factor): an error of 1e-6 of it is immaterial.
 // Otherwise the run at 1e-10 decides, from the same start: the count, and the modes whose signs
 // the branch test reads. On series A at mu = 0.25 no state needed it, and the screening took the
-// Arnoldi from 31157 to 22262 solves with the same curve (bench/README.md, "Static solver").
+// Arnoldi from 31157 to 22262 solves with the same curve
+// (docs/notes/2026-12-06-bench-static-history.md).
 constexpr double screening_tolerance = 1e-6;
 constexpr double counting_tolerance = 1e-10;
 
@@ -205,7 +206,8 @@ NegativeEigenvalues negative_eigenvalues(const SparseMatrix& k, const LuFactor* 
     InverseOperator op(*lu, n);
     const int nev = std::min(6, n - 3);
     // From the last state's Ritz vectors a smaller Krylov space does: 14 vectors instead of 20
-    // took a quarter off the solves of the main job's q1 runs (bench/README.md, "Static solver").
+    // took a quarter off the solves of the main job's q1 runs
+    // (docs/notes/2026-12-04-static-main-job.md).
     const bool warm = start && start->size() == n && start->norm() > 0.0;
     const int ncv = std::min(n, warm ? 2 * nev + 2 : 2 * nev + 8);
     ArnoldiRun run = arnoldi(op, nev, ncv, warm ? start : nullptr, screening_tolerance);
