@@ -129,7 +129,6 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
   }
   const auto t0 = Clock::now();
   Network trial = net;
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(trial.dofs.size);
   const ResidualScale scale = residual_scale(trial, step.predictor.start_states);
   const SolvePhase phase_before = lu_statistics().phase;
   lu_statistics().phase = SolvePhase::chord;
