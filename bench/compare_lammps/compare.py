@@ -69,6 +69,7 @@ def main():
     ok = True
     curves = {}
     per_cpu = []
+    step_rate = {}
     for n in sizes:
         rate = {}
         for code, reader in (("lammps", lammps), ("granstab", granstab)):
@@ -79,11 +80,28 @@ def main():
                 if t == 1:
                     curves[code, n] = runs[0][1]
         med = {k: statistics.median(v) for k, v in rate.items()}
+        step_rate[n] = med
         cell = lambda k: "%.3g (%.2g..%.2g)" % (med[k], min(rate[k]), max(rate[k]))
         print("| %d | %s | %s | %.2f | %s | %s | %.2f | %.2f | %.2f |" % (
             n, cell(("lammps", 1)), cell(("granstab", 1)), med["granstab", 1] / med["lammps", 1],
             cell(("lammps", 2)), cell(("granstab", 2)), med["granstab", 2] / med["lammps", 2],
             med["granstab", 2] / med["granstab", 1], med["lammps", 2] / med["lammps", 1]))
+    # What two threads or ranks cost beyond half of one: the work they split is the same, so this
+    # is what splitting adds (waits, halo traffic, a slower second CPU). Issue #23's 2 / 1 targets
+    # (1.5 at N = 1400, 1.8 above) allow granstab at most t1 / target - t1 / 2; with no overhead
+    # at all its two threads would run LAMMPS t2 / (granstab t1 / 2) times as fast as two ranks.
+    print("\n## microseconds per step (medians): t1, t2 and the overhead t2 - t1/2")
+    print("| N | LAMMPS t1 | LAMMPS t2 | its overhead | granstab t1 | granstab t2 | its overhead "
+          "| overhead the 2 / 1 target allows | 2 / LAMMPS 2 with no overhead |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for n in sizes:
+        t = {k: 1e6 * n / v for k, v in step_rate[n].items()}
+        target = 1.5 if n < 5600 else 1.8
+        print("| %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |" % (
+            n, t["lammps", 1], t["lammps", 2], t["lammps", 2] - t["lammps", 1] / 2,
+            t["granstab", 1], t["granstab", 2], t["granstab", 2] - t["granstab", 1] / 2,
+            t["granstab", 1] / target - t["granstab", 1] / 2,
+            t["lammps", 2] / (t["granstab", 1] / 2)))
     print("\n## particle-steps per CPU-second (median; LAMMPS: loop time x ranks x its '% CPU use')")
     print("| N | code | 1 | 2 |")
     print("|---|---|---|---|")
