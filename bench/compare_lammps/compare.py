@@ -102,6 +102,13 @@ def main():
             t["granstab", 1], t["granstab", 2], t["granstab", 2] - t["granstab", 1] / 2,
             t["granstab", 1] / target - t["granstab", 1] / 2,
             t["lammps", 2] / (t["granstab", 1] / 2)))
+    handover = work / "handover.txt"
+    if handover.exists():
+        # run.sh's measurements: the VM's state while each group ran (README.md "Timing").
+        marks = [line.split() for line in handover.read_text().splitlines() if line.strip()]
+        print("\n## one-way cache-line hand-over, CPU 0 <-> 1, ns (handover.cpp): before the runs, "
+              "after each repeat-size group")
+        print(", ".join(" ".join(m) for m in marks))
     print("\n## particle-steps per CPU-second (median; LAMMPS: loop time x ranks x its '% CPU use')")
     print("| N | code | 1 | 2 |")
     print("|---|---|---|---|")

@@ -9,7 +9,9 @@
 # granstab on 1 thread, LAMMPS on 2 MPI processes, granstab on 2 OpenMP threads, each running
 # the same strain-rate test for the same number of steps (particle-steps / N). Prints the
 # particle-steps per second (medians over the repeats), the ratios, and checks the two codes'
-# stress curves (compare.py). --quick divides the particle-steps by 8 and uses 3 repeats.
+# stress curves (compare.py), with the cache-line hand-over between CPU 0 and 1 measured before
+# the runs and after each repeat-size group (handover.cpp). --quick divides the particle-steps
+# by 8 and uses 3 repeats.
 # --pin CPU runs both one-process runs on that CPU (taskset): on a VM whose CPUs run at unequal
 # speeds, the one-thread ratio then compares the codes, not the CPUs they landed on.
 set -euo pipefail
@@ -53,9 +55,10 @@ build="$(realpath -m "$build")"  # the runs below cd into the work directory
 if [[ ! -f "$build/CMakeCache.txt" ]]; then
   cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release > /dev/null
 fi
-cmake --build "$build" -j2 --target make_packing run_granstab > /dev/null
+cmake --build "$build" -j2 --target make_packing run_granstab handover > /dev/null
 make_packing="$build/bench/compare_lammps/make_packing"
 run_granstab="$build/bench/compare_lammps/run_granstab"
+handover="$build/bench/compare_lammps/handover"
 
 mkdir -p "$work"
 cd "$work"
@@ -78,6 +81,18 @@ lammps() {  # lammps N STEPS EVERY OUT [mpirun...]
     -var gamma_n "$GAMMA_N" -var mu "$MU" -var erate "$ERATE" -var skin "$lmp_skin" > "$out"
 }
 
+# The one-way cache-line hand-over between CPU 0 and 1 (handover.cpp), before the runs and after
+# each (repeat, N) group: on a VM it changes by 4x within minutes, and both codes' two-process
+# speed-ups follow it. compare.py prints the list.
+measure_handover() {  # measure_handover LABEL
+  local ns
+  ns=$("$handover" | awk '{print $2}')
+  echo "$1 $ns" >> handover.txt
+  echo "# cache-line hand-over, CPU 0 <-> 1, $1: $ns ns"
+}
+rm -f handover.txt
+measure_handover start
+
 for r in $(seq 1 "$repeats"); do
   for n in $sizes; do
     steps=$(awk -v p="$particle_steps" -v n="$n" 'BEGIN { s = int(p / n / 100) * 100; print (s < 200 ? 200 : s) }')
@@ -88,6 +103,7 @@ for r in $(seq 1 "$repeats"); do
     lammps "$n" "$steps" "$every" "lammps_${n}_2_$r.out" "${mpirun[@]}"
     OMP_NUM_THREADS=2 "$run_granstab" "p$n.granstab" "$steps" "$every" 2 "$gs_skin" > "granstab_${n}_2_$r.out"
     echo "# repeat $r, N = $n, $steps steps done; load average $(cut -d' ' -f1-3 /proc/loadavg)"
+    measure_handover "r$r-N$n"
   done
 done
 
