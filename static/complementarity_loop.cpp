@@ -236,16 +236,20 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   std::shared_ptr<LuFactor> factor;
   // Where factorisations are deferred (LuReuse::krylov_min_dofs), the iterates of a loop, which
   // share one state and differ in the statuses of a few contacts, are low-rank updates of a
-  // recent LU when they can be (the check's first LU, at this state), deferred otherwise. The
-  // check's first iterate is factorised: its determinant (exact from an update too) is wanted,
-  // and GMRES preconditioned by the last state's LU mostly failed on it.
+  // recent LU when they can be (the check's first LU, at this state). Otherwise the check's
+  // later iterates are deferred, and the others factorised. The check's first: its determinant
+  // is wanted, and GMRES preconditioned by the last state's LU mostly failed on it. A step's:
+  // deferred, 322 of their 527 GMRES solves in q1 at N = 5600 went over the bound; factorised,
+  // their LU is also a nearer preconditioner for the corrector, and that q1 took 12 % less time,
+  // the same at N = 1024 and 1400 (bench/README.md, "Issue #18's targets").
   LuReuse reuse = lu_reuse(options);
   LuReuse first = reuse;  // the loop's first factorisation
   if (reuse.krylov) {
     reuse.low_rank = true;
     reuse.low_rank_min_dofs = reuse.krylov_min_dofs;
     first = reuse;
-    first.krylov = !determinant;
+    first.krylov = false;
+    reuse.krylov = determinant;
   }
   bool factorised_once = false;
   int lcp_rounds = 0;
