@@ -104,7 +104,7 @@ def main():
             t["lammps", 2] / (t["granstab", 1] / 2)))
     handover = work / "handover.txt"
     if handover.exists():
-        # run.sh's measurements: the VM's state while each group ran (README.md "Timing").
+        # run.sh's measurements: the state of the VM around each group (see README.md).
         marks = [line.split() for line in handover.read_text().splitlines() if line.strip()]
         print("\n## one-way cache-line hand-over, CPU 0 <-> 1, ns (handover.cpp): before the runs, "
               "after each repeat-size group")
