@@ -5,8 +5,8 @@
 //   handover [CPU_A CPU_B [PASSES]]      (default: 0 1 2000000)
 //
 // Prints "handover_ns T cpus A B". A two-thread or two-rank step pays this time at every exchange
-// (barriers, halo data, sums). On the AMD EPYC VM of the issue #23 runs it was ~50 ns in some
-// hours and ~230 ns in others, and both codes' two-process speed-ups followed it
+// (barriers, halo data, sums). On the AMD EPYC VM of the issue #23 runs it was ~50 ns at some
+// times and ~230 ns at others, and both codes' two-process speed-ups followed it
 // (docs/notes/2026-12-05-threads-vm-topology.md). Linux only (thread affinity).
 #include <pthread.h>
 #include <sched.h>
@@ -49,6 +49,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "handover: two different CPUs and an even number of passes >= 2\n");
     return 2;
   }
+  // Without both CPUs (a machine or CPU set without one of them) the figure means nothing, and
+  // two threads passing the baton on one CPU would take a time slice per pass.
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof allowed, &allowed) != 0 || cpu_a < 0 || cpu_b < 0 ||
+      cpu_a >= CPU_SETSIZE || cpu_b >= CPU_SETSIZE || !CPU_ISSET(cpu_a, &allowed) ||
+      !CPU_ISSET(cpu_b, &allowed)) {
+    std::printf("handover_ns nan cpus %d %d\n", cpu_a, cpu_b);
+    return 0;
+  }
   bool pinned_b = false;
   std::thread other([&] {
     pinned_b = pin_to(cpu_b);
@@ -62,7 +71,6 @@ int main(int argc, char** argv) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   other.join();
-  // Without both CPUs (fewer CPUs, or a CPU set that excludes one) the figure means nothing.
   const double ns = pinned_a && pinned_b ? seconds / static_cast<double>(passes) * 1e9 : NAN;
   std::printf("handover_ns %.0f cpus %d %d\n", ns, cpu_a, cpu_b);
   return 0;
