@@ -70,8 +70,9 @@ struct LuReuse {
   int max_columns = 96;       // changed columns beyond which K is not updated
   int max_rank = 40;          // rank of U V^T beyond which K is not updated (r solves with K0)
   // Deferred factorisation: a matrix of the size of a recent full factorisation or update K0 of
-  // this thread (a complementarity loop changes a few contact blocks, the corrector O(dq) of the
-  // geometry) is not factorised; its solves run GMRES on K itself, right-preconditioned by K0's
+  // this thread (the check's later status iterates change a few contact blocks, the corrector
+  // O(dq) of the geometry; a step's status iterates are factorised, complementarity_loop.cpp) is
+  // not factorised; its solves run GMRES on K itself, right-preconditioned by K0's
   // exact operator (the latest one of the size). K is factorised when GMRES does not reach the
   // tolerance in max_krylov_iterations, and whenever an exact operator is asked for: the
   // determinant (sign and magnitude) and solve_unrefined (the eigensolvers' operator).
