@@ -190,7 +190,7 @@ LuFactor::LuFactor(const LuReuse& reuse) : impl_(std::make_unique<Impl>()) {
 }
 LuFactor::~LuFactor() = default;
 
-bool LuFactor::factorize(const SparseMatrix& k) {
+bool LuFactor::factorize(SparseMatrix k) {
   Impl& m = *impl_;
   m.full.reset();
   m.update.reset();
@@ -207,16 +207,15 @@ bool LuFactor::factorize(const SparseMatrix& k) {
   }
   const bool deferrable = m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs;
   const bool updatable = m.reuse.low_rank && k.rows() >= m.reuse.low_rank_min_dofs;
+  k.makeCompressed();
   if (updatable) {
-    SparseMatrix kc = k;
-    kc.makeCompressed();
     // The recent factorisation from which k differs in the fewest columns.
     std::shared_ptr<const NumericLu> best;
     std::vector<int> best_cols, cols;
     for (const auto& base : base_factors()) {
-      if (base->k.rows() != kc.rows()) continue;
+      if (base->k.rows() != k.rows()) continue;
       const int limit = best ? static_cast<int>(best_cols.size()) : m.reuse.max_columns;
-      if (!changed_columns(kc, base->k, limit, cols)) continue;
+      if (!changed_columns(k, base->k, limit, cols)) continue;
       if (!best || cols.size() < best_cols.size()) {
         best = base;
         best_cols = cols;
@@ -225,7 +224,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
     if (best && best_cols.empty()) {  // the same matrix
       m.full = best;
     } else if (best) {
-      m.update = low_rank_update(kc, best, best_cols, m.reuse.max_rank);
+      m.update = low_rank_update(k, best, best_cols, m.reuse.max_rank);
       if (!m.update) ++lu_statistics().too_many;
     } else if (!base_factors().empty()) {
       ++lu_statistics().too_many;
@@ -248,7 +247,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
         if (lu(i, i) < 0.0) sign = -sign;
         log10_det += std::log10(std::abs(lu(i, i)));
       }
-      m.k = std::move(kc);
+      m.k.swap(k);
       det_sign_ = sign;
       log10_det_ = log10_det;
       remember_operator({nullptr, m.update});
@@ -262,8 +261,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
         break;
       }
     if (m.preconditioner) {
-      m.k = k;
-      m.k.makeCompressed();
+      m.k.swap(k);
       m.deferred = true;
       symbolic_reused_ = true;
       ++lu_statistics().deferred;
@@ -271,8 +269,7 @@ bool LuFactor::factorize(const SparseMatrix& k) {
     }
   }
   auto lu = std::make_shared<NumericLu>();
-  lu->k = k;
-  lu->k.makeCompressed();
+  lu->k.swap(k);
   if (!factorize_numeric(*lu, symbolic_reused_, m.reuse)) return false;
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
@@ -289,7 +286,7 @@ bool LuFactor::factorise_deferred() const {
   m.preconditioner.reset();
   ++lu_statistics().deferred_factorised;
   auto lu = std::make_shared<NumericLu>();
-  lu->k = std::move(m.k);
+  lu->k.swap(m.k);
   bool reused = false;
   if (!factorize_numeric(*lu, reused, m.reuse)) {
     m.singular = true;

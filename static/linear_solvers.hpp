@@ -170,8 +170,10 @@ class LuFactor {
   // Returns false when UMFPACK finds the matrix singular (or fails). The symbolic analysis
   // (ordering) of a recent factorisation in this thread is reused when k has exactly the same
   // sparsity pattern; only the numeric factorisation is then redone. With LuReuse::low_rank, a
-  // low-rank update of a recent factorisation may replace the numeric factorisation.
-  bool factorize(const SparseMatrix& k);
+  // low-rank update of a recent factorisation may replace the numeric factorisation. k is kept
+  // (for the refinement, GMRES and the updates): a temporary passed here is swapped in, not
+  // copied (Eigen 3.4's SparseMatrix has no move operations).
+  bool factorize(SparseMatrix k);
   // Whether the last factorize reused a cached symbolic analysis (or made none: low-rank update,
   // deferred factorisation).
   bool symbolic_reused() const { return symbolic_reused_; }
