@@ -330,7 +330,8 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       auto t0 = Clock::now();
       TangentParts parts;
       parts.fixed_pattern = options.fixed_pattern;
-      p.tangent = assemble_tangent(net, states, p.statuses, parts);
+      SparseMatrix tangent = assemble_tangent(net, states, p.statuses, parts);
+      p.tangent.swap(tangent);  // Eigen 3.4's SparseMatrix has no move assignment
       p.kept = kept_dofs(net, states, p.statuses);
       if (timings) timings->assembly += seconds_since(t0);
       factor = std::make_shared<LuFactor>(factorised_once ? reuse : first);

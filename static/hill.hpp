@@ -31,8 +31,8 @@ SparseMatrix symmetric_part(const SparseMatrix& k);
 // Negative eigenvalues of the symmetric matrix s, exactly: the negative pivots of its LDL^T
 // (Sylvester's law of inertia). -1 when the factorisation meets a zero pivot. With a count > 0
 // and `witness`, also a vector x with x^T s x < 0 (from the first negative pivot), when its sign
-// is beyond round-off.
-int negative_eigenvalue_count_symmetric(const SparseMatrix& s, Eigen::VectorXd* witness = nullptr);
+// is beyond round-off. By value: a temporary S (symmetric_part's) is factorised without a copy.
+int negative_eigenvalue_count_symmetric(SparseMatrix s, Eigen::VectorXd* witness = nullptr);
 
 // Whether x^T k x < 0 beyond its round-off: then (k + k^T)/2 is indefinite (x^T k x is x^T S x).
 bool proves_indefinite(const SparseMatrix& k, const Eigen::VectorXd& x);

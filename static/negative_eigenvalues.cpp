@@ -119,6 +119,45 @@ NegativeEigenvalueStatistics& negative_eigenvalue_statistics() {
 }
 
 SparseMatrix symmetric_part(const SparseMatrix& k) {
+  // A structurally symmetric K (the fixed pattern's, reduced or not) gives S on its own pattern:
+  // each value 0.5 (K_ij + K_ji), the sum's values in the sum's order, from the position of each
+  // entry's mirror, kept per pattern. Otherwise the general sum (its pattern is the union).
+  struct Mirrors {
+    SparsityPattern pattern;
+    std::vector<int> mirror;  // value index of (j, i) for the entry (i, j); empty: not symmetric
+  };
+  thread_local Mirrors cache;
+  if (k.isCompressed() && k.rows() == k.cols()) {
+    if (!cache.pattern.same_as(k)) {
+      cache.pattern.assign(k);
+      cache.mirror.assign(static_cast<std::size_t>(k.nonZeros()), -1);
+      // Column j's entries in row order: the mirrors of row i's entries, visited column by column,
+      // are row i's entries in column order, so one cursor per column finds them all.
+      std::vector<int> cursor(k.outerIndexPtr(), k.outerIndexPtr() + k.outerSize());
+      bool symmetric = true;
+      for (int j = 0; j < k.outerSize() && symmetric; ++j)
+        for (int p = k.outerIndexPtr()[j]; p < k.outerIndexPtr()[j + 1]; ++p) {
+          const int i = k.innerIndexPtr()[p];
+          const int q = cursor[i]++;
+          if (q >= k.outerIndexPtr()[i + 1] || k.innerIndexPtr()[q] != j) {
+            symmetric = false;
+            break;
+          }
+          cache.mirror[p] = q;
+        }
+      for (int i = 0; i < k.outerSize() && symmetric; ++i)
+        symmetric = cursor[i] == k.outerIndexPtr()[i + 1];  // no entry of column i left unpaired
+      if (!symmetric) cache.mirror.clear();
+    }
+    if (!cache.mirror.empty()) {
+      SparseMatrix s = k;
+      const double* a = k.valuePtr();
+      double* v = s.valuePtr();
+      for (std::size_t p = 0; p < cache.mirror.size(); ++p)
+        v[p] = 0.5 * (a[p] + a[cache.mirror[p]]);
+      return s;
+    }
+  }
   return 0.5 * (k + SparseMatrix(k.transpose()));
 }
 
@@ -135,7 +174,7 @@ bool proves_indefinite(const SparseMatrix& k, const Eigen::VectorXd& x) {
   return value < -1e-8 * size;
 }
 
-int negative_eigenvalue_count_symmetric(const SparseMatrix& s, Eigen::VectorXd* witness) {
+int negative_eigenvalue_count_symmetric(SparseMatrix sc, Eigen::VectorXd* witness) {
   // The ordering and the elimination tree of the last pattern, kept: a q1 run counts the inertia
   // of many matrices with the pattern of one contact list (the fixed pattern of the tangent). The
   // analysis reads the pattern only, so the factor is the same as a fresh one's.
@@ -144,7 +183,6 @@ int negative_eigenvalue_count_symmetric(const SparseMatrix& s, Eigen::VectorXd* 
     SparsityPattern analysed;
   };
   thread_local Cache cache;
-  SparseMatrix sc = s;
   sc.makeCompressed();
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>& ldlt = cache.ldlt;
   if (!cache.analysed.same_as(sc)) {

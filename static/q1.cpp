@@ -147,6 +147,15 @@ struct Spectrum {
   SparseMatrix reduced;           // K on the kept dofs while the count is deferred
 };
 
+// to = std::move(from) without copying the tangent (Eigen 3.4's SparseMatrix has no move
+// operations, so PredictorResult's copies it): a check per accepted state is handed on this way.
+void move_into(PredictorResult& to, PredictorResult& from) {
+  SparseMatrix tangent;
+  tangent.swap(from.tangent);
+  to = std::move(from);
+  to.tangent.swap(tangent);
+}
+
 // The deferred inertia of a spectrum: the same LDL^T count the check would have made.
 int symmetric_count(Spectrum& s) {
   if (s.symmetric == indefinite_uncounted) {
@@ -416,8 +425,9 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     } else if (s.ok) {
       rebuild_degrees_of_freedom(trial);
       trial_contacts = evaluate_contacts(trial, Eigen::VectorXd::Zero(trial.dofs.size));
-      check =
+      PredictorResult trial_check =
           check_state(trial, trial_contacts, lambda + step, step, path, solver, &result.timings);
+      move_into(check, trial_check);
       unbalanced = check.unbalanced_rows;
       next = spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
       negative = next.negative;
@@ -462,8 +472,8 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       const double stable_to = adaptive ? stable_span(spectrum, next, quiet, step_taken) : 0.0;
       const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
       const double event = grow ? predicted_event(net, contacts, lambda, step, path, check) : 0.0;
-      last_check = check;
-      spectrum = std::move(next);  // with its witness and the matrix of a deferred count
+      move_into(last_check, check);  // check is set again before it is read
+      spectrum = std::move(next);    // with its witness and the matrix of a deferred count
       report_progress(lambda);
       if (lambda >= event_below - 1e-6 * dq) event_below = inf;  // passed it
       if (grow) {

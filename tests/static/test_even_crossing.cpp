@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "static/hill.hpp"
 #include "static/linear_solvers.hpp"
@@ -72,6 +73,38 @@ TEST(NegativeEigenvalues, CountsRealNegativeEigenvaluesNotTheDeterminantSign) {
 // The LDL^T keeps its analysis for a repeated pattern: the count must follow the values of each
 // matrix (a stale numeric factor would repeat the first count), and another pattern of the same
 // size and number of entries must be analysed afresh.
+// symmetric_part's mirror path (a structurally symmetric pattern) against the plain sum
+// 0.5 (K + K^T): the same pattern and the same bits; a pattern without its mirror takes the sum.
+TEST(NegativeEigenvalues, SymmetricPartOfAMirroredPatternIsThePlainSumBitForBit) {
+  const int n = 40;
+  std::vector<Eigen::Triplet<double>> symmetric_pattern, lopsided;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if ((i * 7 + j * 7 + i * j) % 5 != 0 && i != j) continue;  // symmetric in (i, j)
+      // Unequal values at (i, j) and (j, i), an explicit zero among them.
+      const double value = i == 3 && j == 5 ? 0.0 : std::sin(1.0 + i + 0.37 * j);
+      symmetric_pattern.emplace_back(i, j, value);
+      if (!(i == 1 && j > 1)) lopsided.emplace_back(i, j, value);  // row 1 right of the diagonal
+    }
+  for (const auto* triplets : {&symmetric_pattern, &lopsided}) {
+    SparseMatrix k(n, n);
+    k.setFromTriplets(triplets->begin(), triplets->end());
+    k.makeCompressed();
+    for (int round = 0; round < 2; ++round) {  // a fresh pattern, then the kept one
+      const SparseMatrix plain = 0.5 * (k + SparseMatrix(k.transpose()));
+      const SparseMatrix s = symmetric_part(k);
+      ASSERT_EQ(s.nonZeros(), plain.nonZeros());
+      for (Eigen::Index e = 0; e < s.nonZeros(); ++e) {
+        EXPECT_EQ(s.innerIndexPtr()[e], plain.innerIndexPtr()[e]);
+        EXPECT_EQ(std::memcmp(s.valuePtr() + e, plain.valuePtr() + e, sizeof(double)), 0);
+      }
+      for (Eigen::Index j = 0; j <= n; ++j)
+        EXPECT_EQ(s.outerIndexPtr()[j], plain.outerIndexPtr()[j]);
+      k.coeffs() *= -1.5;  // other values, the same pattern
+    }
+  }
+}
+
 TEST(NegativeEigenvalues, SymmetricCountFollowsTheValuesOfARepeatedPattern) {
   const std::vector<double> tail = {1.0, 2.0, 3.0, 4.0};
   // [[a, c], [c, a]] has eigenvalues a +- c.
