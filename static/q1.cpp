@@ -147,13 +147,15 @@ struct Spectrum {
   SparseMatrix reduced;           // K on the kept dofs while the count is deferred
 };
 
-// to = std::move(from) without copying the tangent (Eigen 3.4's SparseMatrix has no move
-// operations, so PredictorResult's copies it): a check per accepted state is handed on this way.
-void move_into(PredictorResult& to, PredictorResult& from) {
-  SparseMatrix tangent;
-  tangent.swap(from.tangent);
+// to = std::move(from) for a struct whose SparseMatrix member is `matrix`, without copying that
+// matrix: Eigen 3.4's SparseMatrix has no move operations, so the struct's own move copies it.
+// The checks and spectra of the accepted states are handed on this way.
+template <class T>
+void move_into(T& to, T& from, SparseMatrix T::*matrix) {
+  SparseMatrix kept;
+  kept.swap(from.*matrix);
   to = std::move(from);
-  to.tangent.swap(tangent);
+  (to.*matrix).swap(kept);
 }
 
 // The deferred inertia of a spectrum: the same LDL^T count the check would have made.
@@ -188,7 +190,7 @@ Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count,
   out.symmetric = e.symmetric;
   out.nearest_zero = e.nearest_zero;
   if (e.witness.size() > 0) out.witness = expand(e.witness, r, static_cast<int>(p.tangent.rows()));
-  if (e.symmetric == indefinite_uncounted) out.reduced = std::move(k);
+  if (e.symmetric == indefinite_uncounted) out.reduced.swap(k);
   if (e.modes.empty()) return out;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
@@ -427,9 +429,11 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       trial_contacts = evaluate_contacts(trial, Eigen::VectorXd::Zero(trial.dofs.size));
       PredictorResult trial_check =
           check_state(trial, trial_contacts, lambda + step, step, path, solver, &result.timings);
-      move_into(check, trial_check);
+      move_into(check, trial_check, &PredictorResult::tangent);
       unbalanced = check.unbalanced_rows;
-      next = spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
+      Spectrum trial_spectrum =
+          spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
+      move_into(next, trial_spectrum, &Spectrum::reduced);
       negative = next.negative;
       if (big && check.ok && check.statuses != last_check.statuses) {
         detail = "status change in a step above dq";
@@ -472,8 +476,9 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       const double stable_to = adaptive ? stable_span(spectrum, next, quiet, step_taken) : 0.0;
       const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
       const double event = grow ? predicted_event(net, contacts, lambda, step, path, check) : 0.0;
-      move_into(last_check, check);  // check is set again before it is read
-      spectrum = std::move(next);    // with its witness and the matrix of a deferred count
+      move_into(last_check, check, &PredictorResult::tangent);  // set again before it is read
+      // With its witness and the matrix of a deferred count.
+      move_into(spectrum, next, &Spectrum::reduced);
       report_progress(lambda);
       if (lambda >= event_below - 1e-6 * dq) event_below = inf;  // passed it
       if (grow) {
