@@ -70,9 +70,6 @@ TEST(NegativeEigenvalues, CountsRealNegativeEigenvaluesNotTheDeterminantSign) {
   expect_counts(blocks({{1.0, 5.0, 0.0}}, {{3.0, 1.0}}, tail), 0, 0);
 }
 
-// The LDL^T keeps its analysis for a repeated pattern: the count must follow the values of each
-// matrix (a stale numeric factor would repeat the first count), and another pattern of the same
-// size and number of entries must be analysed afresh.
 // symmetric_part's mirror path (a structurally symmetric pattern) against the plain sum
 // 0.5 (K + K^T): the same pattern and the same bits; a pattern without its mirror takes the sum.
 TEST(NegativeEigenvalues, SymmetricPartOfAMirroredPatternIsThePlainSumBitForBit) {
@@ -105,6 +102,9 @@ TEST(NegativeEigenvalues, SymmetricPartOfAMirroredPatternIsThePlainSumBitForBit)
   }
 }
 
+// The LDL^T keeps its analysis for a repeated pattern: the count must follow the values of each
+// matrix (a stale numeric factor would repeat the first count), and another pattern of the same
+// size and number of entries must be analysed afresh.
 TEST(NegativeEigenvalues, SymmetricCountFollowsTheValuesOfARepeatedPattern) {
   const std::vector<double> tail = {1.0, 2.0, 3.0, 4.0};
   // [[a, c], [c, a]] has eigenvalues a +- c.
