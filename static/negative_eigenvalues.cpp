@@ -118,6 +118,20 @@ NegativeEigenvalueStatistics& negative_eigenvalue_statistics() {
   return statistics;
 }
 
+namespace {
+
+// S = (K + K^T)/2 on K's pattern, from the value index of each entry's mirror. Its own function:
+// a named matrix returned next to another return statement would be copied (no move constructor).
+SparseMatrix mirrored_mean(const SparseMatrix& k, const std::vector<int>& mirror) {
+  SparseMatrix s = with_structure_of(k);
+  const double* a = k.valuePtr();
+  double* v = s.valuePtr();
+  for (std::size_t p = 0; p < mirror.size(); ++p) v[p] = 0.5 * (a[p] + a[mirror[p]]);
+  return s;
+}
+
+}  // namespace
+
 SparseMatrix symmetric_part(const SparseMatrix& k) {
   // A structurally symmetric K (the fixed pattern's, reduced or not) gives S on its own pattern:
   // each value 0.5 (K_ij + K_ji), the sum's values in the sum's order, from the position of each
@@ -149,14 +163,7 @@ SparseMatrix symmetric_part(const SparseMatrix& k) {
         symmetric = cursor[i] == k.outerIndexPtr()[i + 1];  // no entry of column i left unpaired
       if (!symmetric) cache.mirror.clear();
     }
-    if (!cache.mirror.empty()) {
-      SparseMatrix s = k;
-      const double* a = k.valuePtr();
-      double* v = s.valuePtr();
-      for (std::size_t p = 0; p < cache.mirror.size(); ++p)
-        v[p] = 0.5 * (a[p] + a[cache.mirror[p]]);
-      return s;
-    }
+    if (!cache.mirror.empty()) return mirrored_mean(k, cache.mirror);
   }
   return 0.5 * (k + SparseMatrix(k.transpose()));
 }

@@ -15,12 +15,19 @@ Reduction make_reduction(const std::vector<char>& keep) {
   return r;
 }
 
+// Each of these returns one named matrix on every path, so that it is built in place (NRVO):
+// another return statement would make `return out` a copy, there being no move constructor.
+
 SparseMatrix reduce(const SparseMatrix& k, const Reduction& r) {
   const int n = static_cast<int>(r.reduced_to_full.size());
-  if (n == k.rows()) return k;
+  SparseMatrix out;
+  if (n == k.rows()) {
+    out = k;
+    return out;
+  }
   // The kept columns and, in each, the kept rows in their order: no sums, the same entries as
   // building the submatrix from triplets, without the sort and the transposed copy.
-  SparseMatrix out(n, n);
+  out.resize(n, n);
   out.reserve(k.nonZeros());
   for (int rc = 0; rc < n; ++rc) {
     out.startVec(rc);

@@ -77,7 +77,9 @@ struct FixedPattern {
   std::vector<std::array<int, n_local>> dofs;  // and each contact's dofs
   SparseMatrix zero;                           // the structure, all values 0
   std::vector<int> slot;                       // contact c, entry (a, b): value index, or -1
+  std::vector<char> first;                     // the slot is its value's first term
   std::array<int, 2> load_slot{-1, -1};        // (e1, e2) and (e2, e1)
+  std::array<char, 2> load_first{0, 0};
 
   bool matches(const Network& net, const std::vector<ContactState>& states, bool with_load) const {
     if (n != net.dofs.size || load != with_load || dofs.size() != states.size() ||
@@ -130,7 +132,68 @@ const FixedPattern& fixed_pattern_of(const Network& net, const std::vector<Conta
   p.load_slot = {-1, -1};
   if (with_load)
     p.load_slot = {value_index(p.zero, m.e[0], m.e[1]), value_index(p.zero, m.e[1], m.e[0])};
+  // Every value has a term (the pattern is made of these entries); the first, in the assembly's
+  // order, sets it and the others add to it.
+  std::vector<char> seen(static_cast<std::size_t>(p.zero.nonZeros()), 0);
+  const auto first_term = [&](int i) {
+    const bool first = i >= 0 && !seen[i];
+    if (first) seen[i] = 1;
+    return static_cast<char>(first);
+  };
+  p.first.resize(p.slot.size());
+  for (std::size_t e = 0; e < p.slot.size(); ++e) p.first[e] = first_term(p.slot[e]);
+  p.load_first = {first_term(p.load_slot[0]), first_term(p.load_slot[1])};
   return p;
+}
+
+// Each assembly returns one named matrix, built in place (NRVO): with two in one function, the
+// return would copy it (Eigen 3.4's SparseMatrix has no move constructor).
+
+SparseMatrix on_fixed_pattern(const Network& net, const std::vector<ContactState>& states,
+                              const std::vector<ContactStatus>& statuses,
+                              const TangentParts& parts) {
+  // Every listed contact writes its whole block. Each entry's terms are added in the order in
+  // which setFromTriplets would sum them (contacts, then a, b), so the values are the same.
+  const bool with_load = parts.load && has_load_stiffness(net);
+  const FixedPattern& p = fixed_pattern_of(net, states, with_load);
+  SparseMatrix k = with_structure_of(p.zero);
+  double* value = k.valuePtr();
+  const auto add = [value](int i, char first, double v) { value[i] = first ? v : value[i] + v; };
+  for (std::size_t c = 0; c < states.size(); ++c) {
+    const LocalMatrix kc = contact_stiffness(net, states[c], statuses[c], parts);
+    const int* slot = &p.slot[c * n_local * n_local];
+    const char* first = &p.first[c * n_local * n_local];
+    for (int a = 0; a < n_local; ++a)
+      for (int b = 0; b < n_local; ++b)
+        if (slot[a * n_local + b] >= 0)
+          add(slot[a * n_local + b], first[a * n_local + b], kc[a][b]);
+  }
+  if (with_load) {
+    const double a0 = net.area();
+    add(p.load_slot[0], p.load_first[0], net.loading.sigma[0] * a0);
+    add(p.load_slot[1], p.load_first[1], net.loading.sigma[1] * a0);
+  }
+  return k;
+}
+
+SparseMatrix from_triplets(const Network& net, const std::vector<ContactState>& states,
+                           const std::vector<ContactStatus>& statuses, const TangentParts& parts) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(states.size() * 40 + 2);
+  for (std::size_t c = 0; c < states.size(); ++c) {
+    if (statuses[c] == ContactStatus::open && states[c].f_n == 0.0) continue;
+    const LocalMatrix kc = contact_stiffness(net, states[c], statuses[c], parts);
+    const auto& dof = states[c].rows.dof;
+    for (int a = 0; a < n_local; ++a) {
+      if (dof[a] < 0) continue;
+      for (int b = 0; b < n_local; ++b)
+        if (dof[b] >= 0 && kc[a][b] != 0.0) triplets.emplace_back(dof[a], dof[b], kc[a][b]);
+    }
+  }
+  if (parts.load) add_load_stiffness(net, triplets);
+  SparseMatrix k(net.dofs.size, net.dofs.size);
+  k.setFromTriplets(triplets.begin(), triplets.end());
+  return k;
 }
 
 }  // namespace
@@ -138,48 +201,8 @@ const FixedPattern& fixed_pattern_of(const Network& net, const std::vector<Conta
 SparseMatrix assemble_tangent(const Network& net, const std::vector<ContactState>& states,
                               const std::vector<ContactStatus>& statuses,
                               const TangentParts& parts) {
-  if (parts.fixed_pattern) {
-    // Every listed contact writes its whole block. Each entry's terms are added in the order in
-    // which setFromTriplets would sum them (contacts, then a, b), so the values are the same.
-    const bool with_load = parts.load && has_load_stiffness(net);
-    const FixedPattern& p = fixed_pattern_of(net, states, with_load);
-    SparseMatrix k = p.zero;
-    double* value = k.valuePtr();
-    std::vector<char> written(static_cast<std::size_t>(k.nonZeros()), 0);
-    const auto add = [&](int i, double v) {
-      value[i] = written[i] ? value[i] + v : v;
-      written[i] = 1;
-    };
-    for (std::size_t c = 0; c < states.size(); ++c) {
-      const LocalMatrix kc = contact_stiffness(net, states[c], statuses[c], parts);
-      const int* slot = &p.slot[c * n_local * n_local];
-      for (int a = 0; a < n_local; ++a)
-        for (int b = 0; b < n_local; ++b)
-          if (slot[a * n_local + b] >= 0) add(slot[a * n_local + b], kc[a][b]);
-    }
-    if (with_load) {
-      const double a0 = net.area();
-      add(p.load_slot[0], net.loading.sigma[0] * a0);
-      add(p.load_slot[1], net.loading.sigma[1] * a0);
-    }
-    return k;
-  }
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(states.size() * 40 + 2);
-  for (std::size_t c = 0; c < states.size(); ++c) {
-    if (statuses[c] == ContactStatus::open && states[c].f_n == 0.0) continue;
-    const LocalMatrix k = contact_stiffness(net, states[c], statuses[c], parts);
-    const auto& dof = states[c].rows.dof;
-    for (int a = 0; a < n_local; ++a) {
-      if (dof[a] < 0) continue;
-      for (int b = 0; b < n_local; ++b)
-        if (dof[b] >= 0 && k[a][b] != 0.0) triplets.emplace_back(dof[a], dof[b], k[a][b]);
-    }
-  }
-  if (parts.load) add_load_stiffness(net, triplets);
-  SparseMatrix k(net.dofs.size, net.dofs.size);
-  k.setFromTriplets(triplets.begin(), triplets.end());
-  return k;
+  return parts.fixed_pattern ? on_fixed_pattern(net, states, statuses, parts)
+                             : from_triplets(net, states, statuses, parts);
 }
 
 SparseMatrix assemble_tangent(const Network& net, const std::vector<ContactState>& states,

@@ -1,5 +1,6 @@
 #pragma once
 // The tangent stiffness K = -dR/dq of STATIC.md §S1, assembled from triplets contact by contact.
+#include <algorithm>
 #include <vector>
 
 #include <Eigen/SparseCore>
@@ -9,6 +10,16 @@
 namespace granstab::statics {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+// A compressed matrix with the structure of `compressed` and its values left unset, for a caller
+// that writes every value: a copy would write each value twice.
+inline SparseMatrix with_structure_of(const SparseMatrix& compressed) {
+  SparseMatrix out(compressed.rows(), compressed.cols());
+  out.resizeNonZeros(compressed.nonZeros());
+  std::copy_n(compressed.outerIndexPtr(), compressed.outerSize() + 1, out.outerIndexPtr());
+  std::copy_n(compressed.innerIndexPtr(), compressed.nonZeros(), out.innerIndexPtr());
+  return out;
+}
 
 struct TangentParts {
   bool material = true;   // B^T k B per status
