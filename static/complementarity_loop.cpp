@@ -113,7 +113,7 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
   for (const int c : u) out.statuses[c] = ContactStatus::stick;
   TangentParts parts;
   parts.fixed_pattern = options.fixed_pattern;
-  const SparseMatrix k = assemble_tangent(net, states, out.statuses, parts);
+  SparseMatrix k = assemble_tangent(net, states, out.statuses, parts);
   const std::vector<char> kept = kept_dofs(net, states, out.statuses);
   const Reduction r = make_reduction(kept);
   // An exact LU of its own (no deferred factorisation: the LCP matrix needs n solves with this
@@ -123,7 +123,7 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
   reuse.refine = reuse.refine && options.refine_solves;
   LuFactor lu(reuse);
   const auto t0 = Clock::now();
-  const bool factored = lu.factorize(reduce(k, r));
+  const bool factored = lu.factorize(reduce(std::move(k), r));  // k is not read again
   if (timings) {
     timings->factorisation += seconds_since(t0);
     ++timings->factorisations;
@@ -316,28 +316,31 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
                                          : SolvePhase::check_later;
     Solve solved = Solve::solved;
     std::vector<int> unbalanced;
-    if (it == 0 && warm && warm->factor && warm->statuses == p.statuses &&
-        warm->tangent.rows() == net.dofs.size) {
+    if (it == 0 && warm && warm->factor && warm->statuses == p.statuses && warm->tangent &&
+        warm->tangent->rows() == net.dofs.size) {
       // Same state and statuses as the stability check that accepted it: reuse its factor
       // (its K_load differs by the load increment of the check only, O(1e-6 dq P A0)).
       p.tangent = warm->tangent;
       p.kept = warm->kept;
       factor = warm->factor;
       const auto t0 = Clock::now();
-      solved = solve_factored(net, p.tangent, p.kept, *factor, r0, p.dq, &pinned_test, &unbalanced);
+      solved =
+          solve_factored(net, *p.tangent, p.kept, *factor, r0, p.dq, &pinned_test, &unbalanced);
       if (timings) timings->factorisation += seconds_since(t0);
     } else {
       auto t0 = Clock::now();
       TangentParts parts;
       parts.fixed_pattern = options.fixed_pattern;
-      SparseMatrix tangent = assemble_tangent(net, states, p.statuses, parts);
-      p.tangent.swap(tangent);  // Eigen 3.4's SparseMatrix has no move assignment
+      // Swapped in: make_shared<SparseMatrix>(assemble_tangent(...)) would copy it.
+      auto tangent = std::make_shared<SparseMatrix>();
+      assemble_tangent(net, states, p.statuses, parts).swap(*tangent);
+      p.tangent = std::move(tangent);
       p.kept = kept_dofs(net, states, p.statuses);
       if (timings) timings->assembly += seconds_since(t0);
       factor = std::make_shared<LuFactor>(factorised_once ? reuse : first);
       factorised_once = true;
-      solved =
-          solve_kept(net, p.tangent, p.kept, r0, *factor, p.dq, timings, &pinned_test, &unbalanced);
+      solved = solve_kept(net, *p.tangent, p.kept, r0, *factor, p.dq, timings, &pinned_test,
+                          &unbalanced);
     }
     if (solved == Solve::singular) {
       // A disk left with one closed contact (its others open under these statuses) has a

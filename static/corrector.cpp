@@ -109,11 +109,11 @@ NewtonResult newton_iterations(const Network& net, Eigen::VectorXd dq,
     for (std::size_t c = 0; c < states.size(); ++c) statuses[c] = states[c].status;
     TangentParts parts;
     parts.fixed_pattern = options.fixed_pattern;
-    const SparseMatrix k = assemble_tangent(net, states, statuses, parts);
+    SparseMatrix k = assemble_tangent(net, states, statuses, parts);
     const std::vector<char> kept = kept_dofs(net, states, statuses);
     if (timings) timings->assembly += seconds_since(t0);
     Eigen::VectorXd step;
-    if (solve_kept(net, k, kept, r, lu, step, timings, nullptr) != Solve::solved) break;
+    if (solve_kept(net, std::move(k), kept, r, lu, step, timings, nullptr) != Solve::solved) break;
     // Backtracking on |R|: the law has kinks (Coulomb return, opening) that a full step may cross.
     // Halving alone creeps towards a kink on the tangent of its near side (the residual halves per
     // iteration, each with an LU); so after the full step come points just past the last kinks

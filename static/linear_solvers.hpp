@@ -212,6 +212,11 @@ struct Reduction {
 };
 Reduction make_reduction(const std::vector<char>& keep);
 SparseMatrix reduce(const SparseMatrix& k, const Reduction& r);
+// The same, taking k's storage instead of copying it when every index is kept (k is then left
+// empty; otherwise it is left as it was): Eigen 3.4's SparseMatrix has no move constructor.
+SparseMatrix reduce(SparseMatrix&& k, const Reduction& r);
+// k on the kept indices without a copy when every index is kept: k itself, else `reduced`, set.
+const SparseMatrix& kept_part(const SparseMatrix& k, const Reduction& r, SparseMatrix& reduced);
 Eigen::VectorXd reduce(const Eigen::VectorXd& v, const Reduction& r);
 Eigen::VectorXd expand(const Eigen::VectorXd& v, const Reduction& r, int full_size);
 

@@ -25,9 +25,9 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
   const Reduction r = make_reduction(kept);
   Eigen::VectorXd reduced;
   if (!lu.try_solve(reduce(b, r), reduced)) return Solve::singular;
-  x = expand(reduced, r, static_cast<int>(k.rows()));
-  if (!test || static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
-    return Solve::solved;
+  // Sized by kept, not k: a K whose storage solve_kept handed to lu is empty when all are kept.
+  x = expand(reduced, r, static_cast<int>(kept.size()));
+  if (!test || r.reduced_to_full.size() == kept.size()) return Solve::solved;
   // R(x) ~ b - K x: the dropped rows keep -misfit, of which the start's residual is not the step's.
   Eigen::VectorXd misfit = k * x - b;
   if (test->start_residual) misfit += *test->start_residual;
@@ -47,11 +47,18 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
   return Solve::pinned_out_of_balance;
 }
 
-Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
-                 const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
-                 const PinnedRowTest* test, std::vector<int>* out_of_balance) {
+namespace {
+
+// solve_kept for a K to copy (const&) or to take (&&): reduce(k) is lu.factorize's argument
+// itself, so that the factor gets the reduced matrix without a further copy.
+template <class Tangent>
+Solve factorise_and_solve(const Network& net, Tangent&& k, const std::vector<char>& kept,
+                          const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x,
+                          Timings* timings, const PinnedRowTest* test,
+                          std::vector<int>* out_of_balance) {
   const auto t0 = Clock::now();
-  const Solve outcome = lu.factorize(reduce(k, make_reduction(kept)))
+  // k, if taken, is read again only when some dof is dropped, and then it was not taken.
+  const Solve outcome = lu.factorize(reduce(std::forward<Tangent>(k), make_reduction(kept)))
                             ? solve_factored(net, k, kept, lu, b, x, test, out_of_balance)
                             : Solve::singular;
   if (timings) {
@@ -60,6 +67,20 @@ Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<ch
     if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
   }
   return outcome;
+}
+
+}  // namespace
+
+Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
+                 const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
+                 const PinnedRowTest* test, std::vector<int>* out_of_balance) {
+  return factorise_and_solve(net, k, kept, b, lu, x, timings, test, out_of_balance);
+}
+
+Solve solve_kept(const Network& net, SparseMatrix&& k, const std::vector<char>& kept,
+                 const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
+                 const PinnedRowTest* test, std::vector<int>* out_of_balance) {
+  return factorise_and_solve(net, std::move(k), kept, b, lu, x, timings, test, out_of_balance);
 }
 
 LuReuse lu_reuse(const SolverOptions& options) {

@@ -119,7 +119,10 @@ struct PredictorResult {
   std::vector<ContactStatus> statuses;  // consistent statuses of the increment
   int determinant_sign = 0;  // of K(statuses) on the kept dofs (0 if not asked for and unknown)
   int iterations = 0;
-  SparseMatrix tangent;              // K(statuses) on all dofs
+  // K(statuses) on all dofs, shared and never changed: the step's loop from a state takes its
+  // check's as it is, and results move without copying it (Eigen 3.4's SparseMatrix has no move
+  // operations, so a SparseMatrix member would make every move of a result a copy).
+  std::shared_ptr<const SparseMatrix> tangent;
   std::vector<char> kept;            // dofs kept (floppy rotations pinned)
   std::vector<char> ever_sliding;    // per contact: sliding in some iterate of the loop
   std::shared_ptr<LuFactor> factor;  // LU of K(statuses) on the kept dofs (when ok)

@@ -42,6 +42,10 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
 Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
                  const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
                  const PinnedRowTest* test, std::vector<int>* out_of_balance = nullptr);
+// The same for a K the caller no longer needs: lu takes its storage when every dof is kept.
+Solve solve_kept(const Network& net, SparseMatrix&& k, const std::vector<char>& kept,
+                 const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
+                 const PinnedRowTest* test, std::vector<int>* out_of_balance = nullptr);
 
 // Chord iterations with the predictor's factor: the tangent changes by O(step) inside a step, so
 // they usually reach the tolerance without a new factorisation. Returns the point reached; the

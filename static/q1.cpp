@@ -144,25 +144,16 @@ struct Spectrum {
   double nearest_zero = std::numeric_limits<double>::quiet_NaN();  // smallest |eigenvalue| found
   Eigen::VectorXd witness;  // x (all dofs) with x^T K x < 0, offered to the next state's check
   Eigen::VectorXd arnoldi_start;  // all dofs: the next state's Arnoldi starts from it
-  SparseMatrix reduced;           // K on the kept dofs while the count is deferred
 };
 
-// to = std::move(from) for a struct whose SparseMatrix member is `matrix`, without copying that
-// matrix: Eigen 3.4's SparseMatrix has no move operations, so the struct's own move copies it.
-// The checks and spectra of the accepted states are handed on this way.
-template <class T>
-void move_into(T& to, T& from, SparseMatrix T::*matrix) {
-  SparseMatrix kept;
-  kept.swap(from.*matrix);
-  to = std::move(from);
-  (to.*matrix).swap(kept);
-}
-
-// The deferred inertia of a spectrum: the same LDL^T count the check would have made.
-int symmetric_count(Spectrum& s) {
+// The deferred inertia of a spectrum: the same LDL^T count the check p of which it is the
+// spectrum would have made, on the same K (the check keeps it: no copy waits for a count that
+// most states never need).
+int symmetric_count(Spectrum& s, const PredictorResult& p) {
   if (s.symmetric == indefinite_uncounted) {
-    s.symmetric = negative_eigenvalue_count_symmetric(symmetric_part(s.reduced));
-    s.reduced = SparseMatrix();
+    SparseMatrix reduced;
+    const SparseMatrix& k = kept_part(*p.tangent, make_reduction(p.kept), reduced);
+    s.symmetric = negative_eigenvalue_count_symmetric(symmetric_part(k));
   }
   return s.symmetric;
 }
@@ -173,30 +164,30 @@ int symmetric_count(Spectrum& s) {
 Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count,
                      const Spectrum* previous = nullptr) {
   Spectrum out;
-  if (!count || !p.ok || !p.factor) return out;
+  if (!count || !p.ok || !p.factor || !p.tangent) return out;
   const Reduction r = make_reduction(p.kept);
-  SparseMatrix k = reduce(p.tangent, r);
+  SparseMatrix reduced;
+  const SparseMatrix& k = kept_part(*p.tangent, r, reduced);
   Eigen::VectorXd witness, start;
-  if (previous && previous->witness.size() == p.tangent.rows())
+  if (previous && previous->witness.size() == p.tangent->rows())
     witness = reduce(previous->witness, r);
-  if (previous && previous->arnoldi_start.size() == p.tangent.rows())
+  if (previous && previous->arnoldi_start.size() == p.tangent->rows())
     start = reduce(previous->arnoldi_start, r);
   const NegativeEigenvalues e =
       negative_eigenvalues(k, p.factor.get(), witness.size() > 0 ? &witness : nullptr,
                            start.size() > 0 ? &start : nullptr);
   if (!e.ok) return out;
   if (e.arnoldi_start.size() > 0)
-    out.arnoldi_start = expand(e.arnoldi_start, r, static_cast<int>(p.tangent.rows()));
+    out.arnoldi_start = expand(e.arnoldi_start, r, static_cast<int>(p.tangent->rows()));
   out.symmetric = e.symmetric;
   out.nearest_zero = e.nearest_zero;
-  if (e.witness.size() > 0) out.witness = expand(e.witness, r, static_cast<int>(p.tangent.rows()));
-  if (e.symmetric == indefinite_uncounted) out.reduced.swap(k);
+  if (e.witness.size() > 0) out.witness = expand(e.witness, r, static_cast<int>(p.tangent->rows()));
   if (e.modes.empty()) return out;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   const std::vector<ContactState> states = evaluate_contacts(net, zero);
   for (const Eigen::VectorXd& v : e.modes)
     out.negative +=
-        on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent.rows())));
+        on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent->rows())));
   return out;
 }
 
@@ -228,10 +219,12 @@ bool same_statuses(const PredictorResult& start, const StepResult& s) {
 // indefinite, after a step without status change and with its inertia unchanged, half the span
 // in which the eigenvalue of K nearest 0 would reach 0 at its rate over that step (an even pair
 // crossing and coming back inside one step needs that); otherwise, or uncounted, 0: no growth.
-double stable_span(Spectrum& start, Spectrum& end, bool quiet, double taken) {
+double stable_span(Spectrum& start, const PredictorResult& start_check, Spectrum& end,
+                   const PredictorResult& end_check, bool quiet, double taken) {
   if (end.symmetric == 0) return std::numeric_limits<double>::infinity();
   if (!quiet) return 0.0;
-  if (symmetric_count(start) < 0 || symmetric_count(end) != start.symmetric) return 0.0;
+  if (symmetric_count(start, start_check) < 0 || symmetric_count(end, end_check) != start.symmetric)
+    return 0.0;
   const double rate = std::abs(end.nearest_zero - start.nearest_zero) / taken;
   if (!(end.nearest_zero > 0.0) || !std::isfinite(rate)) return 0.0;
   return rate > 0.0 ? 0.5 * end.nearest_zero / rate : std::numeric_limits<double>::infinity();
@@ -284,9 +277,9 @@ double hill_of(const Network& net, HillResult& last) {
 // smallest |eigenvalue|, the null vector when K is (nearly) singular.
 Eigen::VectorXd softest_mode(const PredictorResult& p) {
   const Reduction r = make_reduction(p.kept);
-  const SparseMatrix k = reduce(p.tangent, r);
+  const SparseMatrix k = reduce(*p.tangent, r);
   const int n = static_cast<int>(k.rows());
-  if (n == 0) return Eigen::VectorXd::Zero(p.tangent.rows());
+  if (n == 0) return Eigen::VectorXd::Zero(p.tangent->rows());
   LuFactor lu;
   Eigen::VectorXd v = Eigen::VectorXd::Ones(n).normalized();
   if (lu.factorize(k)) {
@@ -295,7 +288,7 @@ Eigen::VectorXd softest_mode(const PredictorResult& p) {
     const HillResult h = hill_indicator(k);
     if (h.ok) v = h.mode;
   }
-  return expand(v, r, static_cast<int>(p.tangent.rows()));
+  return expand(v, r, static_cast<int>(p.tangent->rows()));
 }
 
 // The sliding contacts at q1: sliding at the last stable state, or made to slide in some iterate
@@ -312,7 +305,7 @@ void record_instability(StabilityResult& result, const Network& net, const Predi
     result.sliding_at_q1.push_back({net.contacts.i[c], net.contacts.j[c], net.contacts.k1[c],
                                     net.contacts.k2[c], s.f_n, s.f_t});
   }
-  if (p.tangent.rows() != net.dofs.size) return;
+  if (!p.tangent || p.tangent->rows() != net.dofs.size) return;
   const Eigen::VectorXd v = softest_mode(p);
   const DofMap& m = net.dofs;
   result.mode.assign(3 * net.n_disks(), 0.0);
@@ -429,11 +422,9 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       trial_contacts = evaluate_contacts(trial, Eigen::VectorXd::Zero(trial.dofs.size));
       PredictorResult trial_check =
           check_state(trial, trial_contacts, lambda + step, step, path, solver, &result.timings);
-      move_into(check, trial_check, &PredictorResult::tangent);
+      check = std::move(trial_check);
       unbalanced = check.unbalanced_rows;
-      Spectrum trial_spectrum =
-          spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
-      move_into(next, trial_spectrum, &Spectrum::reduced);
+      next = spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
       negative = next.negative;
       if (big && check.ok && check.statuses != last_check.statuses) {
         detail = "status change in a step above dq";
@@ -473,12 +464,12 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       if (options.on_accepted) options.on_accepted(lambda, net);
       if (options.stop_when && options.stop_when(result.curve.back())) break;
       const bool quiet = same_statuses(last_check, s) && check.statuses == last_check.statuses;
-      const double stable_to = adaptive ? stable_span(spectrum, next, quiet, step_taken) : 0.0;
+      const double stable_to =
+          adaptive ? stable_span(spectrum, last_check, next, check, quiet, step_taken) : 0.0;
       const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
       const double event = grow ? predicted_event(net, contacts, lambda, step, path, check) : 0.0;
-      move_into(last_check, check, &PredictorResult::tangent);  // set again before it is read
-      // With its witness and the matrix of a deferred count.
-      move_into(spectrum, next, &Spectrum::reduced);
+      last_check = std::move(check);  // check is set again before it is read
+      spectrum = std::move(next);     // with its witness; a deferred count reads last_check's K
       report_progress(lambda);
       if (lambda >= event_below - 1e-6 * dq) event_below = inf;  // passed it
       if (grow) {

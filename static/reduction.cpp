@@ -40,6 +40,21 @@ SparseMatrix reduce(const SparseMatrix& k, const Reduction& r) {
   return out;
 }
 
+SparseMatrix reduce(SparseMatrix&& k, const Reduction& r) {
+  SparseMatrix out;
+  if (static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
+    out.swap(k);
+  else
+    reduce(k, r).swap(out);  // an assignment would copy
+  return out;
+}
+
+const SparseMatrix& kept_part(const SparseMatrix& k, const Reduction& r, SparseMatrix& reduced) {
+  if (static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows()) return k;
+  reduce(k, r).swap(reduced);
+  return reduced;
+}
+
 Eigen::VectorXd reduce(const Eigen::VectorXd& v, const Reduction& r) {
   Eigen::VectorXd out(r.reduced_to_full.size());
   for (std::size_t i = 0; i < r.reduced_to_full.size(); ++i) out[i] = v[r.reduced_to_full[i]];

@@ -43,7 +43,7 @@ void write_check(const statics::Network& net, double q, double sigma1, const std
     std::printf("q %.4f N %zu: check failed (%s)\n", q, net.n_disks(), p.failure.c_str());
     return;
   }
-  const statics::SparseMatrix k = statics::reduce(p.tangent, statics::make_reduction(p.kept));
+  const statics::SparseMatrix k = statics::reduce(*p.tangent, statics::make_reduction(p.kept));
   const statics::SparseMatrix s = 0.5 * (k + statics::SparseMatrix(k.transpose()));
   int sliding = 0;
   for (const auto st : p.statuses)

@@ -4,6 +4,7 @@
 // symbolic analysis, across status changes.
 #include <gtest/gtest.h>
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -49,6 +50,41 @@ TEST(Reduce, KeptEntriesInOrderWithExplicitZeros) {
   // Nothing eliminated: the matrix itself.
   const Reduction all = make_reduction(std::vector<char>(n, 1));
   EXPECT_EQ(reduce(k, all).nonZeros(), k.nonZeros());
+}
+
+// The taking overload (a K its caller no longer needs, handed to a factor): with every dof kept
+// it takes k's storage, the same matrix without a copy; with some dropped it leaves k as it was
+// (solve_kept reads it again for the dropped rows' misfit) and gives the same submatrix.
+TEST(Reduce, TakingOverloadTakesOnlyWhenEverythingIsKept) {
+  const int n = 5;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if ((i + j) % 2 == 0) t.emplace_back(i, j, 1.0 + i + 10.0 * j);
+  SparseMatrix k(n, n);
+  k.setFromTriplets(t.begin(), t.end());
+  const Eigen::MatrixXd dense(k);
+
+  const Reduction some = make_reduction({1, 1, 0, 1, 1});
+  SparseMatrix kept = k;
+  const SparseMatrix sub = reduce(std::move(kept), some);
+  EXPECT_EQ((Eigen::MatrixXd(kept) - dense).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((Eigen::MatrixXd(sub) - Eigen::MatrixXd(reduce(k, some))).cwiseAbs().maxCoeff(), 0.0);
+
+  const Reduction all = make_reduction(std::vector<char>(n, 1));
+  SparseMatrix taken = k;
+  const double* storage = taken.valuePtr();
+  const SparseMatrix whole = reduce(std::move(taken), all);
+  EXPECT_EQ(whole.valuePtr(), storage);  // the same storage: not copied
+  EXPECT_EQ(taken.nonZeros(), 0);
+  EXPECT_EQ((Eigen::MatrixXd(whole) - dense).cwiseAbs().maxCoeff(), 0.0);
+
+  // kept_part: k itself when everything is kept, the submatrix otherwise.
+  SparseMatrix spare;
+  EXPECT_EQ(&kept_part(k, all, spare), &k);
+  EXPECT_EQ(
+      (Eigen::MatrixXd(kept_part(k, some, spare)) - Eigen::MatrixXd(sub)).cwiseAbs().maxCoeff(),
+      0.0);
 }
 
 }  // namespace
