@@ -339,8 +339,8 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
       if (timings) timings->assembly += seconds_since(t0);
       factor = std::make_shared<LuFactor>(factorised_once ? reuse : first);
       factorised_once = true;
-      solved = solve_kept(net, *p.tangent, p.kept, r0, *factor, p.dq, timings, &pinned_test,
-                          &unbalanced);
+      solved =
+          solve_kept(net, p.tangent, p.kept, r0, *factor, p.dq, timings, &pinned_test, &unbalanced);
     }
     if (solved == Solve::singular) {
       // A disk left with one closed contact (its others open under these statuses) has a

@@ -66,7 +66,7 @@ void forget_klu_analyses() { klu_analyses().clear(); }
 // det A = sign(P) sign(Q) prod(R) prod(diag U).
 bool factorize_klu(NumericLu& lu, bool& reused) {
   klu_common& common = klu_settings();
-  lu.analysis = klu_analyses().get(lu.k, 0.0, reused, [&common](const SparseMatrix& k) {
+  lu.analysis = klu_analyses().get(lu.k(), 0.0, reused, [&common](const SparseMatrix& k) {
     auto analysis = std::make_shared<KluAnalysis>();
     // KLU reads its inputs only; its interface is not const-qualified.
     analysis->symbolic =
@@ -76,9 +76,9 @@ bool factorize_klu(NumericLu& lu, bool& reused) {
   });
   if (!lu.analysis) return false;
   klu_symbolic* symbolic = lu.analysis->symbolic;
-  int* const ap = const_cast<int*>(lu.k.outerIndexPtr());
-  int* const ai = const_cast<int*>(lu.k.innerIndexPtr());
-  double* const ax = const_cast<double*>(lu.k.valuePtr());
+  int* const ap = const_cast<int*>(lu.k().outerIndexPtr());
+  int* const ai = const_cast<int*>(lu.k().innerIndexPtr());
+  double* const ax = const_cast<double*>(lu.k().valuePtr());
   // A spare's pivot order first. It is kept while the smallest pivot stays as large against the
   // largest (KLU's rcond, the cheap one) as when partial pivoting chose the order, within a factor
   // refactor_rcond: a pivot that shrank makes its column's multipliers grow. Otherwise (or on a
@@ -103,7 +103,7 @@ bool factorize_klu(NumericLu& lu, bool& reused) {
     if (!klu_rcond(symbolic, lu.klu, &common)) return false;
     lu.klu_rcond = common.rcond;
   }
-  const int n = static_cast<int>(lu.k.rows());
+  const int n = static_cast<int>(lu.k().rows());
   const double* u = static_cast<const double*>(lu.klu->Udiag);
   thread_local std::vector<char> seen;
   int sign = permutation_sign(lu.klu->Pnum, n, seen) * permutation_sign(symbolic->Q, n, seen);
@@ -157,11 +157,11 @@ Eigen::VectorXd NumericLu::solve_klu(bool transposed, const Eigen::VectorXd& b, 
   const double t0 = thread_seconds();
   apply_inverse(x);
   Eigen::VectorXd r;
-  double omega = backward_error(k, transposed, b, x, r);
+  double omega = backward_error(k(), transposed, b, x, r);
   for (int step = 0; step < 2 && omega > std::numeric_limits<double>::epsilon(); ++step) {
     apply_inverse(r);
     Eigen::VectorXd next = x + r;
-    const double next_omega = backward_error(k, transposed, b, next, r);
+    const double next_omega = backward_error(k(), transposed, b, next, r);
     const bool halved = next_omega <= 0.5 * omega;
     if (next_omega < omega) {
       x = std::move(next);

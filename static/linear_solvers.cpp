@@ -62,7 +62,7 @@ bool factorize_numeric(NumericLu& lu, bool& reused, const LuReuse& reuse) {
   ++statistics.numeric;
   ++statistics.phase_numeric[static_cast<int>(statistics.phase)];
   const double t0 = thread_seconds();
-  if (lu.k.rows() < reuse.klu_max_dofs) {
+  if (lu.k().rows() < reuse.klu_max_dofs) {
     const bool ok = factorize_klu(lu, reused);
     if (!reused) ++statistics.symbolic;
     statistics.numeric_seconds += thread_seconds() - t0;
@@ -70,14 +70,15 @@ bool factorize_numeric(NumericLu& lu, bool& reused, const LuReuse& reuse) {
   }
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
   umfpack_control(control);
-  if (lu.k.rows() >= reuse.metis_min_dofs) control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
-  const std::shared_ptr<const UmfpackAnalysis> analysis = umfpack_analysis(lu.k, control, reused);
+  if (lu.k().rows() >= reuse.metis_min_dofs) control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
+  const std::shared_ptr<const UmfpackAnalysis> analysis = umfpack_analysis(lu.k(), control, reused);
   const double t1 = thread_seconds();
   statistics.symbolic_seconds += t1 - t0;
   if (!reused) ++statistics.symbolic;
   if (!analysis) return false;
-  const int status = umfpack_di_numeric(lu.k.outerIndexPtr(), lu.k.innerIndexPtr(), lu.k.valuePtr(),
-                                        analysis->symbolic, &lu.numeric, control, info);
+  const int status =
+      umfpack_di_numeric(lu.k().outerIndexPtr(), lu.k().innerIndexPtr(), lu.k().valuePtr(),
+                         analysis->symbolic, &lu.numeric, control, info);
   statistics.numeric_seconds += thread_seconds() - t1;
   if (status != UMFPACK_OK) {  // includes UMFPACK_WARNING_singular_matrix
     if (lu.numeric) umfpack_di_free_numeric(&lu.numeric);
@@ -110,7 +111,7 @@ void remember_base(std::shared_ptr<const NumericLu> lu) {
 struct RecentOperator {
   std::shared_ptr<const NumericLu> full;
   std::shared_ptr<const LowRankUpdate> update;
-  Eigen::Index rows() const { return update ? update->base->k.rows() : full->k.rows(); }
+  Eigen::Index rows() const { return update ? update->base->k().rows() : full->k().rows(); }
   Eigen::VectorXd apply(const Eigen::VectorXd& v, bool transposed) const {
     return update ? update->apply(v, transposed)
                   : full->solve(transposed ? UMFPACK_At : UMFPACK_A, v, false);
@@ -160,7 +161,7 @@ struct LuFactor::Impl {
   LuReuse reuse;
   std::shared_ptr<const NumericLu> full;        // the factorisation of k itself
   std::shared_ptr<const LowRankUpdate> update;  // or a low-rank update of a base factorisation
-  SparseMatrix k;  // k, for the refinement of updated solves and for GMRES
+  std::shared_ptr<const SparseMatrix> k;        // k, for the refinement of updated solves and GMRES
   // Deferred factorisation (LuReuse::krylov): GMRES on k preconditioned by this operator.
   std::optional<RecentOperator> preconditioner;
   bool deferred = false;
@@ -191,6 +192,19 @@ LuFactor::LuFactor(const LuReuse& reuse) : impl_(std::make_unique<Impl>()) {
 LuFactor::~LuFactor() = default;
 
 bool LuFactor::factorize(SparseMatrix k) {
+  k.makeCompressed();
+  auto own = std::make_shared<SparseMatrix>();
+  own->swap(k);
+  return factorize(std::shared_ptr<const SparseMatrix>(std::move(own)));
+}
+
+bool LuFactor::factorize(std::shared_ptr<const SparseMatrix> shared) {
+  if (!shared->isCompressed()) {
+    auto compressed = std::make_shared<SparseMatrix>(*shared);
+    compressed->makeCompressed();
+    shared = std::move(compressed);
+  }
+  const SparseMatrix& k = *shared;
   Impl& m = *impl_;
   m.full.reset();
   m.update.reset();
@@ -207,15 +221,14 @@ bool LuFactor::factorize(SparseMatrix k) {
   }
   const bool deferrable = m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs;
   const bool updatable = m.reuse.low_rank && k.rows() >= m.reuse.low_rank_min_dofs;
-  k.makeCompressed();
   if (updatable) {
     // The recent factorisation from which k differs in the fewest columns.
     std::shared_ptr<const NumericLu> best;
     std::vector<int> best_cols, cols;
     for (const auto& base : base_factors()) {
-      if (base->k.rows() != k.rows()) continue;
+      if (base->k().rows() != k.rows()) continue;
       const int limit = best ? static_cast<int>(best_cols.size()) : m.reuse.max_columns;
-      if (!changed_columns(k, base->k, limit, cols)) continue;
+      if (!changed_columns(k, base->k(), limit, cols)) continue;
       if (!best || cols.size() < best_cols.size()) {
         best = base;
         best_cols = cols;
@@ -247,7 +260,7 @@ bool LuFactor::factorize(SparseMatrix k) {
         if (lu(i, i) < 0.0) sign = -sign;
         log10_det += std::log10(std::abs(lu(i, i)));
       }
-      m.k.swap(k);
+      m.k = std::move(shared);
       det_sign_ = sign;
       log10_det_ = log10_det;
       remember_operator({nullptr, m.update});
@@ -261,7 +274,7 @@ bool LuFactor::factorize(SparseMatrix k) {
         break;
       }
     if (m.preconditioner) {
-      m.k.swap(k);
+      m.k = std::move(shared);
       m.deferred = true;
       symbolic_reused_ = true;
       ++lu_statistics().deferred;
@@ -269,7 +282,7 @@ bool LuFactor::factorize(SparseMatrix k) {
     }
   }
   auto lu = std::make_shared<NumericLu>();
-  lu->k.swap(k);
+  lu->matrix = std::move(shared);
   if (!factorize_numeric(*lu, symbolic_reused_, m.reuse)) return false;
   det_sign_ = lu->sign;
   log10_det_ = lu->log10_det;
@@ -286,7 +299,7 @@ bool LuFactor::factorise_deferred() const {
   m.preconditioner.reset();
   ++lu_statistics().deferred_factorised;
   auto lu = std::make_shared<NumericLu>();
-  lu->k.swap(m.k);
+  lu->matrix = std::move(m.k);
   bool reused = false;
   if (!factorize_numeric(*lu, reused, m.reuse)) {
     m.singular = true;
@@ -357,10 +370,10 @@ Eigen::VectorXd LuFactor::solve_system(const Eigen::VectorXd& b, bool transposed
   const Impl& m = *impl_;
   if (m.deferred) {
     Eigen::VectorXd x;
-    if (krylov_solve(m.k, *m.preconditioner, m.reuse, b, transposed, x)) return x;
+    if (krylov_solve(*m.k, *m.preconditioner, m.reuse, b, transposed, x)) return x;
     if (!factorise_deferred()) return not_a_solution(b.size());
   }
-  if (m.update) return refined(*m.update, m.k, b, transposed);
+  if (m.update) return refined(*m.update, *m.k, b, transposed);
   if (!m.full) throw std::logic_error("LuFactor::solve without a successful factorisation");
   return m.full->solve(transposed ? UMFPACK_At : UMFPACK_A, b, m.reuse.refine);
 }

@@ -174,6 +174,8 @@ class LuFactor {
   // (for the refinement, GMRES and the updates): a temporary passed here is swapped in, not
   // copied (Eigen 3.4's SparseMatrix has no move operations).
   bool factorize(SparseMatrix k);
+  // The same for a K held elsewhere too, shared instead of copied (it must not change).
+  bool factorize(std::shared_ptr<const SparseMatrix> k);
   // Whether the last factorize reused a cached symbolic analysis (or made none: low-rank update,
   // deferred factorisation).
   bool symbolic_reused() const { return symbolic_reused_; }

@@ -19,6 +19,31 @@
 #include "static/tangent.hpp"
 namespace granstab::statics {
 
+namespace {
+
+// No dof dropped: the reduced K is K itself.
+bool keeps_all(const Reduction& r, const std::vector<char>& kept) {
+  return r.reduced_to_full.size() == kept.size();
+}
+
+// solve_kept with the factorisation given: the timings and counts around it, then the solve.
+template <class Factorise>
+Solve timed_solve(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
+                  Factorise&& factorise, const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x,
+                  Timings* timings, const PinnedRowTest* test, std::vector<int>* out_of_balance) {
+  const auto t0 = Clock::now();
+  const Solve outcome =
+      factorise() ? solve_factored(net, k, kept, lu, b, x, test, out_of_balance) : Solve::singular;
+  if (timings) {
+    timings->factorisation += seconds_since(t0);
+    ++timings->factorisations;
+    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
+  }
+  return outcome;
+}
+
+}  // namespace
+
 Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
                      const LuFactor& lu, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                      const PinnedRowTest* test, std::vector<int>* out_of_balance) {
@@ -27,7 +52,7 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
   if (!lu.try_solve(reduce(b, r), reduced)) return Solve::singular;
   // Sized by kept, not k: a K whose storage solve_kept handed to lu is empty when all are kept.
   x = expand(reduced, r, static_cast<int>(kept.size()));
-  if (!test || r.reduced_to_full.size() == kept.size()) return Solve::solved;
+  if (!test || keeps_all(r, kept)) return Solve::solved;
   // R(x) ~ b - K x: the dropped rows keep -misfit, of which the start's residual is not the step's.
   Eigen::VectorXd misfit = k * x - b;
   if (test->start_residual) misfit += *test->start_residual;
@@ -47,40 +72,23 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
   return Solve::pinned_out_of_balance;
 }
 
-namespace {
-
-// solve_kept for a K to copy (const&) or to take (&&): reduce(k) is lu.factorize's argument
-// itself, so that the factor gets the reduced matrix without a further copy.
-template <class Tangent>
-Solve factorise_and_solve(const Network& net, Tangent&& k, const std::vector<char>& kept,
-                          const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x,
-                          Timings* timings, const PinnedRowTest* test,
-                          std::vector<int>* out_of_balance) {
-  const auto t0 = Clock::now();
-  // k, if taken, is read again only when some dof is dropped, and then it was not taken.
-  const Solve outcome = lu.factorize(reduce(std::forward<Tangent>(k), make_reduction(kept)))
-                            ? solve_factored(net, k, kept, lu, b, x, test, out_of_balance)
-                            : Solve::singular;
-  if (timings) {
-    timings->factorisation += seconds_since(t0);
-    ++timings->factorisations;
-    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
-  }
-  return outcome;
-}
-
-}  // namespace
-
-Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
-                 const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
-                 const PinnedRowTest* test, std::vector<int>* out_of_balance) {
-  return factorise_and_solve(net, k, kept, b, lu, x, timings, test, out_of_balance);
-}
-
 Solve solve_kept(const Network& net, SparseMatrix&& k, const std::vector<char>& kept,
                  const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
                  const PinnedRowTest* test, std::vector<int>* out_of_balance) {
-  return factorise_and_solve(net, std::move(k), kept, b, lu, x, timings, test, out_of_balance);
+  // k, if taken, is read again only when some dof is dropped, and then it was not taken.
+  const auto factorise = [&] { return lu.factorize(reduce(std::move(k), make_reduction(kept))); };
+  return timed_solve(net, k, kept, factorise, b, lu, x, timings, test, out_of_balance);
+}
+
+Solve solve_kept(const Network& net, const std::shared_ptr<const SparseMatrix>& k,
+                 const std::vector<char>& kept, const Eigen::VectorXd& b, LuFactor& lu,
+                 Eigen::VectorXd& x, Timings* timings, const PinnedRowTest* test,
+                 std::vector<int>* out_of_balance) {
+  const auto factorise = [&] {
+    const Reduction r = make_reduction(kept);
+    return keeps_all(r, kept) ? lu.factorize(k) : lu.factorize(reduce(*k, r));
+  };
+  return timed_solve(net, *k, kept, factorise, b, lu, x, timings, test, out_of_balance);
 }
 
 LuReuse lu_reuse(const SolverOptions& options) {

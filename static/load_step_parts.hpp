@@ -2,6 +2,7 @@
 // What the three parts of a load step share (load_step.cpp, complementarity_loop.cpp,
 // corrector.cpp): solves on the kept dofs and the chord iterations. Internal to static/.
 #include <chrono>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -38,14 +39,17 @@ struct PinnedRowTest {
 Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
                      const LuFactor& lu, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                      const PinnedRowTest* test, std::vector<int>* out_of_balance = nullptr);
-// The same after factorising the reduced K into lu (timed and counted in timings).
-Solve solve_kept(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
-                 const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
-                 const PinnedRowTest* test, std::vector<int>* out_of_balance = nullptr);
-// The same for a K the caller no longer needs: lu takes its storage when every dof is kept.
+// The same after factorising the reduced K into lu (timed and counted in timings), for a K the
+// caller no longer needs: lu takes its storage when every dof is kept (Eigen 3.4's SparseMatrix
+// has no move operations, so a copy otherwise).
 Solve solve_kept(const Network& net, SparseMatrix&& k, const std::vector<char>& kept,
                  const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
                  const PinnedRowTest* test, std::vector<int>* out_of_balance = nullptr);
+// The same for a shared K (a status iterate's tangent): lu shares it when every dof is kept.
+Solve solve_kept(const Network& net, const std::shared_ptr<const SparseMatrix>& k,
+                 const std::vector<char>& kept, const Eigen::VectorXd& b, LuFactor& lu,
+                 Eigen::VectorXd& x, Timings* timings, const PinnedRowTest* test,
+                 std::vector<int>* out_of_balance = nullptr);
 
 // Chord iterations with the predictor's factor: the tangent changes by O(step) inside a step, so
 // they usually reach the tolerance without a new factorisation. Returns the point reached; the

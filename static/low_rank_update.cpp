@@ -43,7 +43,7 @@ std::unique_ptr<LowRankUpdate> low_rank_update(const SparseMatrix& k,
   std::vector<int> row_slot(n, -1);
   std::vector<int> rows;
   std::vector<Eigen::Triplet<double>> change;  // (row, column slot, K - K0)
-  const SparseMatrix& k0 = base->k;
+  const SparseMatrix& k0 = base->k();
   for (std::size_t c = 0; c < cols.size(); ++c) {
     const int j = cols[c];
     const auto add = [&](int row, double value) {

@@ -139,8 +139,11 @@ struct KluAnalysis {
 // One numeric factorisation, UMFPACK's or KLU's, with the matrix it factorised (its solves
 // refine against it).
 struct NumericLu {
-  SparseMatrix k;           // compressed: UMFPACK keeps pointers to it between calls
-  void* numeric = nullptr;  // UMFPACK
+  // Compressed: UMFPACK and KLU keep pointers to it between calls. Shared, never changed: the
+  // caller's own K where no dof is dropped (the status loop's tangent), without a copy.
+  std::shared_ptr<const SparseMatrix> matrix;
+  const SparseMatrix& k() const { return *matrix; }
+  void* numeric = nullptr;                      // UMFPACK
   std::shared_ptr<const KluAnalysis> analysis;  // KLU: the pattern's analysis and
   klu_numeric* klu = nullptr;                   // the factors
   double klu_rcond = 0.0;  // KLU: the rcond of the pivoting factorisation that chose their pivots
@@ -164,8 +167,8 @@ struct NumericLu {
     if (!refine) control[UMFPACK_IRSTEP] = 0;
     LuStatistics& statistics = lu_statistics();
     const double t0 = refine ? thread_seconds() : 0.0;
-    const int status = umfpack_di_solve(sys, k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr(),
-                                        x.data(), b.data(), numeric, control, info);
+    const int status = umfpack_di_solve(sys, k().outerIndexPtr(), k().innerIndexPtr(),
+                                        k().valuePtr(), x.data(), b.data(), numeric, control, info);
     if (refine) {
       ++statistics.solves;
       statistics.solve_seconds += thread_seconds() - t0;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <thread>
 
 #include <Eigen/Dense>
@@ -91,10 +92,10 @@ TEST(LuLowRank, RandomRankOneChangesMatchAFreshLu) {
 // (whole chunks of four and the rest).
 TEST(LuLowRank, SolvesOfSeveralColumnsAreTheBitsOfOneColumnSolves) {
   NumericLu lu;
-  lu.k = grid_matrix(12, 7u, 4.0);
+  lu.matrix = std::make_shared<const SparseMatrix>(grid_matrix(12, 7u, 4.0));
   bool reused = false;
   ASSERT_TRUE(factorize_klu(lu, reused));
-  const Eigen::Index n = lu.k.rows();
+  const Eigen::Index n = lu.k().rows();
   for (const int sys : {UMFPACK_A, UMFPACK_At})
     for (int columns = 1; columns <= 9; ++columns) {
       Eigen::MatrixXd x(n, columns);

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -212,6 +213,28 @@ TEST(LuBackendsAgree, KluRefactorisesInASparesPivotOrder) {
     EXPECT_EQ(statistics.refactorisations, before);
   });
   worker.join();
+}
+
+// A K held elsewhere too (the status loop's tangent) is shared by the factor, not copied, and
+// factorised as a copy of it would be: the same solution bits and determinant sign.
+TEST_P(LuBackends, SharedMatrixIsHeldNotCopiedWithTheBitsOfACopy) {
+  const LuReuse reuse = backend(GetParam());
+  const auto k = std::make_shared<const SparseMatrix>(grid_matrix(12, 4u, 4.0, false));
+  const Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(k->rows(), -1.0, 2.0);
+  int copy_sign = 0, shared_sign = 0;
+  const Eigen::VectorXd copy = fresh_solve(*k, rhs, copy_sign, reuse);
+  Eigen::VectorXd shared;
+  std::thread worker([&] {  // a fresh cache, as fresh_solve's
+    LuFactor lu(reuse);
+    ASSERT_TRUE(lu.factorize(k));
+    EXPECT_EQ(k.use_count(), 2);  // this test's and the factor's
+    shared = lu.solve(rhs);
+    shared_sign = lu.determinant_sign();
+  });
+  worker.join();
+  EXPECT_EQ(shared_sign, copy_sign);
+  ASSERT_EQ(shared.size(), copy.size());
+  for (Eigen::Index i = 0; i < copy.size(); ++i) EXPECT_EQ(shared[i], copy[i]) << i;
 }
 
 }  // namespace
