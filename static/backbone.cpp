@@ -13,31 +13,48 @@ std::vector<char> force_carrying_disks(const Network& net,
                                        const std::vector<ContactState>& states) {
   const std::size_t n = net.n_disks();
   std::vector<char> carrying(n, 1);
-  const bool remove = net.constraints.remove_rattlers;
+  if (!net.constraints.remove_rattlers) return carrying;
   const auto fixed = [&](std::size_t i) {
     return !net.constraints.disk_fixed.empty() && net.constraints.disk_fixed[i];
   };
-  if (!remove) return carrying;
-  std::vector<int> count(n, 0);
+  // Each disk's force-carrying contacts (walls and fixed disks count and stay; a contact with the
+  // disk's own periodic image counts twice and never goes). The disks left are the largest set
+  // in which every other disk keeps two, whatever the order of removal, so a worklist finds
+  // them, each removal visiting its own contacts only.
   const Contacts& k = net.contacts;
+  std::vector<int> count(n, 0), start(n + 1, 0), neighbour;
+  const auto between_disks = [&](std::size_t c) {
+    return states[c].f_n > 0.0 && !is_wall(k.j[c]) && k.i[c] != k.j[c];
+  };
   for (std::size_t c = 0; c < k.size(); ++c) {
     if (states[c].f_n <= 0.0) continue;
     ++count[k.i[c]];
     if (!is_wall(k.j[c])) ++count[k.j[c]];
+    if (!between_disks(c)) continue;
+    ++start[k.i[c] + 1];
+    ++start[k.j[c] + 1];
   }
-  bool changed = true;
-  while (changed) {
-    changed = false;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!carrying[i] || fixed(i) || count[i] >= 2) continue;
-      carrying[i] = 0;
-      changed = true;
-      for (std::size_t c = 0; c < k.size(); ++c) {
-        if (states[c].f_n <= 0.0) continue;
-        const int a = k.i[c], b = k.j[c];
-        if (a == static_cast<int>(i) && !is_wall(b) && b != a) --count[b];
-        if (b == static_cast<int>(i) && a != b) --count[a];
-      }
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  neighbour.resize(start[n]);
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (std::size_t c = 0; c < k.size(); ++c) {
+    if (!between_disks(c)) continue;
+    neighbour[next[k.i[c]]++] = k.j[c];
+    neighbour[next[k.j[c]]++] = k.i[c];
+  }
+  std::vector<int> leaving;
+  const auto leaves = [&](int i) {
+    if (!carrying[i] || fixed(i) || count[i] >= 2) return;
+    carrying[i] = 0;
+    leaving.push_back(i);
+  };
+  for (std::size_t i = 0; i < n; ++i) leaves(static_cast<int>(i));
+  while (!leaving.empty()) {
+    const int i = leaving.back();
+    leaving.pop_back();
+    for (int e = start[i]; e < start[i + 1]; ++e) {
+      --count[neighbour[e]];
+      leaves(neighbour[e]);
     }
   }
   return carrying;
