@@ -137,6 +137,10 @@ ContactState evaluate_contact(const Network& net, std::size_t c, const Eigen::Ve
   return s;
 }
 
+bool same_contacts(const Network& net, const Network& moved) {
+  return net.loading.e_imposed == moved.loading.e_imposed;  // cell_extension's only load
+}
+
 std::vector<ContactState> evaluate_contacts(const Network& net, const Eigen::VectorXd& dq,
                                             const std::vector<ContactStatus>* forced) {
   // Reserved, not sized: a ContactState is ~0.5 kB, and value-initialising the vector before

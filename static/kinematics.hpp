@@ -50,6 +50,10 @@ ContactState evaluate_contact(const Network& net, std::size_t c, const Eigen::Ve
 std::vector<ContactState> evaluate_contacts(const Network& net, const Eigen::VectorXd& dq,
                                             const std::vector<ContactStatus>* forced = nullptr);
 
+// For `moved`, a copy of `net` whose loads alone were changed (a LoadPath), whether its contacts
+// are net's at any dq: of the loads, the contacts read the imposed extensions only.
+bool same_contacts(const Network& net, const Network& moved);
+
 // Generalized forces of the contacts only: sum_c B_N^T F_N + B_T^T F_T (virtual work).
 Eigen::VectorXd contact_forces(const Network& net, const std::vector<ContactState>& states);
 

@@ -149,9 +149,9 @@ void advance(Network& net, const Eigen::VectorXd& dq, const std::vector<ContactS
 }
 
 StepResult load_step(Network& net, const SolverOptions& options, Timings* timings,
-                     const PredictorResult* warm) {
+                     const PredictorResult* warm, std::vector<ContactState>* start_states) {
   StepResult step;
-  step.predictor = predict(net, options, timings, nullptr, warm, false);
+  step.predictor = predict(net, options, timings, nullptr, warm, false, start_states);
   if (!step.predictor.ok) {
     step.failure = "predictor: " + step.predictor.failure;
     return step;

@@ -164,8 +164,10 @@ struct StepResult {
 
 // Advances net to the equilibrium under its (new) loads; on failure net is unchanged. warm: the
 // stability check of this state, to warm-start the complementarity loop (see predict).
+// start_states: evaluate_contacts(net, 0) if the caller has it (moved from; see predict).
 StepResult load_step(Network& net, const SolverOptions& options, Timings* timings = nullptr,
-                     const PredictorResult* warm = nullptr);
+                     const PredictorResult* warm = nullptr,
+                     std::vector<ContactState>* start_states = nullptr);
 
 // Moves the start of the step to dq: positions, rotations, cell lengths, tangential states and
 // statuses; open contacts leave the list; sliding ones stay exactly on the cone of the moved

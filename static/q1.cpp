@@ -66,7 +66,8 @@ PredictorResult check_state(const Network& net, const std::vector<ContactState>&
   // The pure load increment: the residual left by the corrector (~1e-10) must not steer it.
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
   Eigen::VectorXd start = residual(net, zero, states);
-  std::vector<ContactState> probe_states = evaluate_contacts(probe, zero);
+  std::vector<ContactState> probe_states =
+      same_contacts(net, probe) ? states : evaluate_contacts(probe, zero);
   const Eigen::VectorXd increment = residual(probe, zero, probe_states) - start;
   PredictorResult check =
       predict(probe, options, timings, &increment, nullptr, true, &probe_states);
@@ -146,9 +147,8 @@ struct Spectrum {
   Eigen::VectorXd arnoldi_start;  // all dofs: the next state's Arnoldi starts from it
 };
 
-// The deferred inertia of a spectrum: the same LDL^T count the check p of which it is the
-// spectrum would have made, on the same K (the check keeps it: no copy waits for a count that
-// most states never need).
+// The deferred inertia of s, the spectrum of the check p: the LDL^T count spectrum_of would have
+// made, on p's K (p keeps it, so no copy waits for a count that most states never need).
 int symmetric_count(Spectrum& s, const PredictorResult& p) {
   if (s.symmetric == indefinite_uncounted) {
     SparseMatrix reduced;
@@ -161,8 +161,9 @@ int symmetric_count(Spectrum& s, const PredictorResult& p) {
 // Real negative eigenvalues of K on the statuses of a check whose eigenvectors stay on the branch
 // of those statuses (0 when not counted or unknown: det K alone then decides). The previous
 // state's witness of an indefinite symmetric part, where it still shows one, spares the LDL^T.
-Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count,
-                     const Spectrum* previous = nullptr) {
+// states: evaluate_contacts(net, 0), the caller's.
+Spectrum spectrum_of(const Network& net, const std::vector<ContactState>& states,
+                     const PredictorResult& p, bool count, const Spectrum* previous = nullptr) {
   Spectrum out;
   if (!count || !p.ok || !p.factor || !p.tangent) return out;
   const Reduction r = make_reduction(p.kept);
@@ -182,9 +183,6 @@ Spectrum spectrum_of(const Network& net, const PredictorResult& p, bool count,
   out.symmetric = e.symmetric;
   out.nearest_zero = e.nearest_zero;
   if (e.witness.size() > 0) out.witness = expand(e.witness, r, static_cast<int>(p.tangent->rows()));
-  if (e.modes.empty()) return out;
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(net.dofs.size);
-  const std::vector<ContactState> states = evaluate_contacts(net, zero);
   for (const Eigen::VectorXd& v : e.modes)
     out.negative +=
         on_branch(net, states, p.statuses, expand(v, r, static_cast<int>(p.tangent->rows())));
@@ -353,7 +351,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       check_state(net, contacts, lambda, step, path, options.solver, &result.timings);
   if (check.unbalanced_rows)
     check = check_state(net, contacts, lambda, step, path, exact, &result.timings);
-  Spectrum spectrum = spectrum_of(net, check, options.count_negative_eigenvalues);
+  Spectrum spectrum = spectrum_of(net, contacts, check, options.count_negative_eigenvalues);
   int negative = spectrum.negative;
   point.determinant_sign = check.determinant_sign;
   point.negative_eigenvalues = negative;
@@ -407,7 +405,11 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
     const SolverOptions& solver = at_floor_exact ? exact : options.solver;
     Network trial = net;
     path(trial, lambda + step);
-    const StepResult s = load_step(trial, solver, &result.timings, &last_check);
+    // The state's contacts, where the path moved loads that they do not read.
+    std::vector<ContactState> start;
+    if (same_contacts(net, trial)) start = contacts;
+    const StepResult s =
+        load_step(trial, solver, &result.timings, &last_check, start.empty() ? nullptr : &start);
     ++attempts;
     bool accepted = false;
     bool unbalanced = s.predictor.unbalanced_rows;
@@ -424,7 +426,8 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
           check_state(trial, trial_contacts, lambda + step, step, path, solver, &result.timings);
       check = std::move(trial_check);
       unbalanced = check.unbalanced_rows;
-      next = spectrum_of(trial, check, options.count_negative_eigenvalues, &spectrum);
+      next =
+          spectrum_of(trial, trial_contacts, check, options.count_negative_eigenvalues, &spectrum);
       negative = next.negative;
       if (big && check.ok && check.statuses != last_check.statuses) {
         detail = "status change in a step above dq";

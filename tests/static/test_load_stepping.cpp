@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include <Eigen/LU>
 
@@ -147,6 +148,35 @@ double interpolate_q(const std::vector<CurvePoint>& curve, double eps2) {
 
 // §S3.4 cross-check: strain-controlled static stepping gives the stress-controlled curve below q1,
 // across the opening of the horizontal contacts at q ~ 6.
+// The q1 loop hands a state's contacts to the step and the check from it when the load path moved
+// loads that the contacts do not read (same_contacts): of the loads, they read the imposed
+// extensions alone. Stresses, their measure and dead loads must leave every contact as it was.
+TEST(Control, OfTheLoadsTheContactsReadTheImposedExtensionsAlone) {
+  Network net = testing::triangular_lattice(0.5, 100.0, 50.0, 0.5, 1.0);
+  net.constraints.cell_free = {true, false};  // e2 imposed, as under strain control
+  prepare(net, SolverOptions{});
+  const Eigen::VectorXd dq = Eigen::VectorXd::LinSpaced(net.dofs.size, -1e-3, 1e-3);
+  const std::vector<ContactState> before = evaluate_contacts(net, dq);
+  const auto unchanged = [&](const Network& moved) {
+    const std::vector<ContactState> after = evaluate_contacts(moved, dq);
+    bool equal = after.size() == before.size();
+    for (std::size_t c = 0; equal && c < before.size(); ++c)
+      equal = after[c].f_n == before[c].f_n && after[c].f_t == before[c].f_t &&
+              after[c].rows.bn == before[c].rows.bn && after[c].rows.bt == before[c].rows.bt;
+    return equal;
+  };
+  ASSERT_FALSE(before.empty());
+  Network moved = net;
+  moved.loading.sigma = {2.0, 3.0};
+  moved.loading.measure = StressMeasure::nominal;
+  moved.loading.dead.assign(3 * net.n_disks(), 0.25);
+  EXPECT_TRUE(same_contacts(net, moved));
+  EXPECT_TRUE(unchanged(moved));
+  moved.loading.e_imposed[1] = -1e-3;
+  EXPECT_FALSE(same_contacts(net, moved));
+  EXPECT_FALSE(unchanged(moved));
+}
+
 TEST(Control, StrainControlGivesTheStressControlledCurve) {
   const double kappa = 1e4;
   const StabilityResult stress = lattice_run(kappa, Control::stress, 0.02, INFINITY);
