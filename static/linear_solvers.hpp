@@ -211,6 +211,7 @@ class LuFactor {
 struct Reduction {
   std::vector<int> full_to_reduced;  // -1 for an eliminated index
   std::vector<int> reduced_to_full;
+  bool keeps_all() const { return reduced_to_full.size() == full_to_reduced.size(); }
 };
 Reduction make_reduction(const std::vector<char>& keep);
 SparseMatrix reduce(const SparseMatrix& k, const Reduction& r);

@@ -21,11 +21,6 @@ namespace granstab::statics {
 
 namespace {
 
-// No dof dropped: the reduced K is K itself.
-bool keeps_all(const Reduction& r, const std::vector<char>& kept) {
-  return r.reduced_to_full.size() == kept.size();
-}
-
 // solve_kept with the factorisation given: the timings and counts around it, then the solve.
 template <class Factorise>
 Solve timed_solve(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
@@ -52,7 +47,7 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
   if (!lu.try_solve(reduce(b, r), reduced)) return Solve::singular;
   // Sized by kept, not k: a K whose storage solve_kept handed to lu is empty when all are kept.
   x = expand(reduced, r, static_cast<int>(kept.size()));
-  if (!test || keeps_all(r, kept)) return Solve::solved;
+  if (!test || r.keeps_all()) return Solve::solved;
   // R(x) ~ b - K x: the dropped rows keep -misfit, of which the start's residual is not the step's.
   Eigen::VectorXd misfit = k * x - b;
   if (test->start_residual) misfit += *test->start_residual;
@@ -86,7 +81,7 @@ Solve solve_kept(const Network& net, const std::shared_ptr<const SparseMatrix>& 
                  std::vector<int>* out_of_balance) {
   const auto factorise = [&] {
     const Reduction r = make_reduction(kept);
-    return keeps_all(r, kept) ? lu.factorize(k) : lu.factorize(reduce(*k, r));
+    return r.keeps_all() ? lu.factorize(k) : lu.factorize(reduce(*k, r));
   };
   return timed_solve(net, *k, kept, factorise, b, lu, x, timings, test, out_of_balance);
 }

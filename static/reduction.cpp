@@ -21,7 +21,7 @@ Reduction make_reduction(const std::vector<char>& keep) {
 SparseMatrix reduce(const SparseMatrix& k, const Reduction& r) {
   const int n = static_cast<int>(r.reduced_to_full.size());
   SparseMatrix out;
-  if (n == k.rows()) {
+  if (r.keeps_all()) {
     out = k;
     return out;
   }
@@ -42,7 +42,7 @@ SparseMatrix reduce(const SparseMatrix& k, const Reduction& r) {
 
 SparseMatrix reduce(SparseMatrix&& k, const Reduction& r) {
   SparseMatrix out;
-  if (static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows())
+  if (r.keeps_all())
     out.swap(k);
   else
     reduce(k, r).swap(out);  // an assignment would copy
@@ -50,7 +50,7 @@ SparseMatrix reduce(SparseMatrix&& k, const Reduction& r) {
 }
 
 const SparseMatrix& kept_part(const SparseMatrix& k, const Reduction& r, SparseMatrix& reduced) {
-  if (static_cast<Eigen::Index>(r.reduced_to_full.size()) == k.rows()) return k;
+  if (r.keeps_all()) return k;
   reduce(k, r).swap(reduced);
   return reduced;
 }
