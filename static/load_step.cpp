@@ -21,28 +21,11 @@ namespace granstab::statics {
 
 namespace {
 
-// solve_kept with the factorisation given: the timings and counts around it, then the solve.
-template <class Factorise>
-Solve timed_solve(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
-                  Factorise&& factorise, const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x,
-                  Timings* timings, const PinnedRowTest* test, std::vector<int>* out_of_balance) {
-  const auto t0 = Clock::now();
-  const Solve outcome =
-      factorise() ? solve_factored(net, k, kept, lu, b, x, test, out_of_balance) : Solve::singular;
-  if (timings) {
-    timings->factorisation += seconds_since(t0);
-    ++timings->factorisations;
-    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
-  }
-  return outcome;
-}
-
-}  // namespace
-
-Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
-                     const LuFactor& lu, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                     const PinnedRowTest* test, std::vector<int>* out_of_balance) {
-  const Reduction r = make_reduction(kept);
+// solve_factored on a reduction already made (solve_kept makes it once for both parts).
+Solve solve_reduced(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
+                    const Reduction& r, const LuFactor& lu, const Eigen::VectorXd& b,
+                    Eigen::VectorXd& x, const PinnedRowTest* test,
+                    std::vector<int>* out_of_balance) {
   Eigen::VectorXd reduced;
   if (!lu.try_solve(reduce(b, r), reduced)) return Solve::singular;
   // Sized by kept, not k: a K whose storage solve_kept handed to lu is empty when all are kept.
@@ -67,23 +50,50 @@ Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vecto
   return Solve::pinned_out_of_balance;
 }
 
+// solve_kept with the factorisation given (of K reduced by r): the timings and counts around it,
+// then the solve.
+template <class Factorise>
+Solve timed_solve(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
+                  const Reduction& r, Factorise&& factorise, const Eigen::VectorXd& b, LuFactor& lu,
+                  Eigen::VectorXd& x, Timings* timings, const PinnedRowTest* test,
+                  std::vector<int>* out_of_balance) {
+  const auto t0 = Clock::now();
+  const Solve outcome = factorise() ? solve_reduced(net, k, kept, r, lu, b, x, test, out_of_balance)
+                                    : Solve::singular;
+  if (timings) {
+    timings->factorisation += seconds_since(t0);
+    ++timings->factorisations;
+    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
+  }
+  return outcome;
+}
+
+}  // namespace
+
+Solve solve_factored(const Network& net, const SparseMatrix& k, const std::vector<char>& kept,
+                     const LuFactor& lu, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                     const PinnedRowTest* test, std::vector<int>* out_of_balance) {
+  return solve_reduced(net, k, kept, make_reduction(kept), lu, b, x, test, out_of_balance);
+}
+
 Solve solve_kept(const Network& net, SparseMatrix&& k, const std::vector<char>& kept,
                  const Eigen::VectorXd& b, LuFactor& lu, Eigen::VectorXd& x, Timings* timings,
                  const PinnedRowTest* test, std::vector<int>* out_of_balance) {
   // k, if taken, is read again only when some dof is dropped, and then it was not taken.
-  const auto factorise = [&] { return lu.factorize(reduce(std::move(k), make_reduction(kept))); };
-  return timed_solve(net, k, kept, factorise, b, lu, x, timings, test, out_of_balance);
+  const Reduction r = make_reduction(kept);
+  const auto factorise = [&] { return lu.factorize(reduce(std::move(k), r)); };
+  return timed_solve(net, k, kept, r, factorise, b, lu, x, timings, test, out_of_balance);
 }
 
 Solve solve_kept(const Network& net, const std::shared_ptr<const SparseMatrix>& k,
                  const std::vector<char>& kept, const Eigen::VectorXd& b, LuFactor& lu,
                  Eigen::VectorXd& x, Timings* timings, const PinnedRowTest* test,
                  std::vector<int>* out_of_balance) {
+  const Reduction r = make_reduction(kept);
   const auto factorise = [&] {
-    const Reduction r = make_reduction(kept);
     return r.keeps_all() ? lu.factorize(k) : lu.factorize(reduce(*k, r));
   };
-  return timed_solve(net, *k, kept, factorise, b, lu, x, timings, test, out_of_balance);
+  return timed_solve(net, *k, kept, r, factorise, b, lu, x, timings, test, out_of_balance);
 }
 
 LuReuse lu_reuse(const SolverOptions& options) {
