@@ -3,10 +3,13 @@
 // corrector.cpp): solves on the kept dofs and the chord iterations. Internal to static/.
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
+#include "static/complementarity.hpp"
 #include "static/linear_solvers.hpp"
 #include "static/load_step.hpp"
 
@@ -50,6 +53,30 @@ Solve solve_kept(const Network& net, const std::shared_ptr<const SparseMatrix>& 
                  const std::vector<char>& kept, const Eigen::VectorXd& b, LuFactor& lu,
                  Eigen::VectorXd& x, Timings* timings, const PinnedRowTest* test,
                  std::vector<int>* out_of_balance = nullptr);
+
+// The LCP of resolve_by_lcp (complementarity_loop.cpp) as its sparse system, S dq + W lambda = b,
+// phi = g + V dq + K_T lambda (S, W, b on the kept dofs; V a contact's few dofs per row).
+struct LcpSystem {
+  const SparseMatrix& s;
+  const SparseMatrix& w;
+  const Eigen::SparseMatrix<double, Eigen::RowMajor, int>& v;
+  const Eigen::VectorXd& g;
+  const Eigen::VectorXd& b;
+  const Eigen::VectorXd& q;  // g + V S^-1 b
+  double q_scale;            // solve_lcp's unknowns are lambda K_T / q_scale and phi / q_scale
+  double k_t;
+};
+// That LCP solved by active sets, without its matrix M = K_T I - V S^-1 W, whose n columns cost n
+// solves (N = 5600: 400-2200 contacts, ~2-10 s an LCP). On a support a, phi_a = 0, so lambda_a =
+// -(g_a + V_a dq) / K_T, where dq solves the tangent with a's contacts sliding, (S - W_a V_a / K_T)
+// dq = b + W_a g_a / K_T: one factorisation and one solve. First lambda = 0 (phi = q), then the
+// support `in` and, while some unknown is below -tol, the next one of a primal-dual active set
+// iteration (out where lambda < -tol, in where phi < -tol; only the worst one flips where that
+// support was tried before), max_supports in all. solve_lcp's conditions are tested on its scaled
+// unknowns. Empty when none of them solves it, or a solve is not finite.
+std::optional<LcpResult> lcp_by_active_sets(const LcpSystem& p, std::vector<char> in, double tol,
+                                            int max_supports, const LuReuse& reuse,
+                                            Timings* timings);
 
 // Chord iterations with the predictor's factor: the tangent changes by O(step) inside a step, so
 // they usually reach the tolerance without a new factorisation. Returns the point reached; the
