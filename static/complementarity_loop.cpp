@@ -135,11 +135,7 @@ LcpResolution resolve_by_lcp(const Network& net, const std::vector<ContactState>
   // Shared with the factor: a guessed support's tangent is S plus the sliding contacts' terms.
   const auto s_matrix = std::make_shared<const SparseMatrix>(reduce(std::move(k), r));
   const bool factored = lu.factorize(s_matrix);  // k is not read again
-  if (timings) {
-    timings->factorisation += seconds_since(t0);
-    ++timings->factorisations;
-    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
-  }
+  count_factorisation(timings, t0, lu);
   if (!factored) {
     out.how = "the tangent with the undecided contacts sticking is singular";
     return out;
@@ -261,17 +257,14 @@ std::optional<LcpResult> lcp_by_active_sets(const LcpSystem& p, std::vector<char
     LuFactor lu(own);
     const auto t0 = Clock::now();
     const bool factored = lu.factorize(std::move(sliding));
-    if (timings) {
-      timings->factorisation += seconds_since(t0);
-      ++timings->factorisations;
-      if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
-    }
+    count_factorisation(timings, t0, lu);
     if (!factored) return std::nullopt;
     const Eigen::VectorXd dq = lu.solve(p.b + w_g);
     const Eigen::VectorXd phi = p.g + p.v * dq;  // on the support: -K_T lambda
     result.lambda = Eigen::VectorXd::Zero(n);
     result.w = Eigen::VectorXd::Zero(n);
     Eigen::Index worst = -1;
+    double worst_value = -tol;
     std::vector<char> next = in;
     for (Eigen::Index c = 0; c < n; ++c) {
       double& unknown = in[c] ? result.lambda[c] : result.w[c];
@@ -279,10 +272,10 @@ std::optional<LcpResult> lcp_by_active_sets(const LcpSystem& p, std::vector<char
       if (!std::isfinite(unknown)) return std::nullopt;
       if (!(unknown < -tol)) continue;
       next[c] = !in[c];
-      const double worst_value = worst < 0   ? 0.0
-                                 : in[worst] ? result.lambda[worst]
-                                             : result.w[worst];
-      if (unknown < worst_value) worst = c;
+      if (unknown < worst_value) {
+        worst = c;
+        worst_value = unknown;
+      }
     }
     if (worst >= 0) {
       // Flipping every violation at once can cycle (period 3 over 2168 contacts at N = 5600):

@@ -60,11 +60,7 @@ Solve timed_solve(const Network& net, const SparseMatrix& k, const std::vector<c
   const auto t0 = Clock::now();
   const Solve outcome = factorise() ? solve_reduced(net, k, kept, r, lu, b, x, test, out_of_balance)
                                     : Solve::singular;
-  if (timings) {
-    timings->factorisation += seconds_since(t0);
-    ++timings->factorisations;
-    if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
-  }
+  count_factorisation(timings, t0, lu);
   return outcome;
 }
 

@@ -20,6 +20,15 @@ inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// A factorisation into lu begun at t0, in timings (if any): its time, its count, and its symbolic
+// analysis unless one was reused.
+inline void count_factorisation(Timings* timings, Clock::time_point t0, const LuFactor& lu) {
+  if (!timings) return;
+  timings->factorisation += seconds_since(t0);
+  ++timings->factorisations;
+  if (!lu.symbolic_reused()) ++timings->symbolic_analyses;
+}
+
 enum class Solve { solved, singular, pinned_out_of_balance };
 
 // Solves K x = b on the kept dofs with a factor of the reduced K (pinned dofs stay 0). With a
