@@ -111,6 +111,9 @@ void remember_base(std::shared_ptr<const NumericLu> lu) {
 struct RecentOperator {
   std::shared_ptr<const NumericLu> full;
   std::shared_ptr<const LowRankUpdate> update;
+  // The GMRES iterations of the latest solve it preconditioned (max_krylov_iterations + 1: over
+  // the bound), shared by the copies of this operator.
+  std::shared_ptr<int> last_iterations = std::make_shared<int>(0);
   Eigen::Index rows() const { return update ? update->base->k().rows() : full->k().rows(); }
   Eigen::VectorXd apply(const Eigen::VectorXd& v, bool transposed) const {
     return update ? update->apply(v, transposed)
@@ -270,7 +273,9 @@ bool LuFactor::factorize(std::shared_ptr<const SparseMatrix> shared) {
   if (deferrable) {
     for (const RecentOperator& op : recent_operators())
       if (op.rows() == k.rows()) {
-        m.preconditioner = op;  // the most recent one of this size
+        // The most recent one of this size, unless its latest GMRES solve took more than
+        // krylov_stale_iterations: the matrices have moved away from it.
+        if (*op.last_iterations <= m.reuse.krylov_stale_iterations) m.preconditioner = op;
         break;
       }
     if (m.preconditioner) {
@@ -338,6 +343,7 @@ bool krylov_solve(const SparseMatrix& k, const RecentOperator& preconditioner, c
   };
   const bool converged = gmres(k, precondition, b, transposed, reuse.krylov_tolerance,
                                reuse.max_krylov_iterations, x, iterations);
+  *preconditioner.last_iterations = converged ? iterations : reuse.max_krylov_iterations + 1;
   const double seconds = thread_seconds() - t0;
   statistics.krylov_seconds += seconds;
   statistics.krylov_iterations += iterations;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <thread>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -128,6 +129,41 @@ TEST(LuKrylov, OverTheBoundItFactorises) {
         EXPECT_LT((k * x - b).norm(), 1e-12 * b.norm());
       },
       3);
+}
+
+TEST(LuKrylov, AfterASlowSolveTheNextMatrixIsFactorised) {
+  // K1 is deferred against K0's LU and its solve takes some GMRES iterations. The next matrix is
+  // deferred against K0 too while they are at most krylov_stale_iterations, and factorised at
+  // once when they were more.
+  const SparseMatrix k0 = grid_matrix(15, 3u, 4.0);
+  SparseMatrix k1 = k0;
+  k1 += 0.05 * grid_matrix(15, 4u, 4.0);
+  k1.makeCompressed();
+  const SparseMatrix k2 = changed(k1, 7, {7, 40}, 0.1);
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(k0.rows());
+  // K0 factorised, K1 deferred and solved, then K2: K1's GMRES iterations, whether K2 was
+  // factorised at once.
+  const auto run = [&](int stale) {
+    std::pair<long, bool> out{0, false};
+    in_fresh_thread([&] {
+      default_lu_reuse().krylov_stale_iterations = stale;
+      LuFactor base, first, next;
+      ASSERT_TRUE(base.factorize(k0));
+      const long before = lu_statistics().krylov_iterations;
+      ASSERT_TRUE(first.factorize(k1));
+      ASSERT_FALSE(first.factorised());
+      EXPECT_LT((k1 * first.solve(b) - b).norm(), 1e-10 * b.norm());
+      out.first = lu_statistics().krylov_iterations - before;
+      ASSERT_TRUE(next.factorize(k2));
+      out.second = next.factorised();
+    });
+    return out;
+  };
+  const auto [iterations, never] = run(1000);
+  ASSERT_GE(iterations, 3) << "not the case under test";
+  EXPECT_FALSE(never);
+  EXPECT_FALSE(run(static_cast<int>(iterations)).second);
+  EXPECT_TRUE(run(static_cast<int>(iterations) - 1).second);
 }
 
 TEST(LuKrylov, SingularDeferredMatrixIsReported) {
