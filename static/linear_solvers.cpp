@@ -90,6 +90,7 @@ bool factorize_numeric(NumericLu& lu, bool& reused, const LuReuse& reuse) {
     return false;
   lu.sign = mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
   lu.log10_det = std::log10(std::abs(mantissa)) + exponent;
+  lu.copy_after_solves = reuse.copy_after_solves;
   return lu.sign != 0;
 }
 
@@ -158,6 +159,20 @@ void forget_factorisations() {
 LuStatistics& lu_statistics() {
   thread_local LuStatistics statistics;
   return statistics;
+}
+
+const UmfpackCopy* NumericLu::umfpack_copied() const {
+  const std::lock_guard<std::mutex> lock(copy_mutex);
+  if (copy_tried || copy_after_solves < 0 || ++unrefined_before_copy <= copy_after_solves)
+    return umfpack_copy.get();
+  copy_tried = true;
+  const double t0 = thread_seconds();
+  auto copy = std::make_unique<UmfpackCopy>();
+  if (copy->assign(numeric, static_cast<int>(k().rows()))) umfpack_copy = std::move(copy);
+  LuStatistics& statistics = lu_statistics();
+  ++statistics.copies;
+  statistics.copy_seconds += thread_seconds() - t0;
+  return umfpack_copy.get();
 }
 
 struct LuFactor::Impl {

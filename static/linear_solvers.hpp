@@ -90,6 +90,11 @@ struct LuReuse {
   // run over the bound. On the N = 5600 tiling's q1, 177 -> 79 solves over the bound and 16102 ->
   // 11662 GMRES iterations, 5 % less time (bench/README.md, "Issue #18's targets").
   int krylov_stale_iterations = 12;
+  // An UMFPACK factor's unrefined solves read a copy of its L by rows (UmfpackCopy: the same
+  // bits, a third less time per solve) from the first one after this many (negative: never). The
+  // copy costs about two solves; most factors are solved with at most twice (a status iterate) or
+  // over 16 times (a GMRES preconditioner, the Arnoldi operator; series B: 232 and 558 of 886).
+  int copy_after_solves = 4;
   // |b - K x| <= krylov_tolerance | |K| |x| + |b| |: at 1e-14 a third of the GMRES solves at
   // N = 5600 did not get there in 24 iterations (the residual's round-off floor); the path and
   // q1 are the same at 1e-12 and 1e-14 (docs/notes/2026-12-02-static-speed-measurements.md).
@@ -153,6 +158,8 @@ struct LuStatistics {
   double solve_seconds = 0.0;     // thread CPU seconds of the refined UMFPACK solves
   double symbolic_seconds = 0.0;  // thread CPU seconds of the symbolic analyses
   double numeric_seconds = 0.0;   // thread CPU seconds of the numeric factorisations
+  long copies = 0;                // UMFPACK factors copied out for unrefined solves (UmfpackCopy)
+  double copy_seconds = 0.0;      // thread CPU seconds of those copies
   // The same split by SolvePhase: numeric factorisations, GMRES solves (converged), over the
   // bound, iterations, CPU seconds.
   SolvePhase phase = SolvePhase::other;

@@ -15,6 +15,7 @@
 #include <umfpack.h>
 
 #include "static/linear_solvers.hpp"
+#include "static/umfpack_copy.hpp"
 
 namespace granstab::statics {
 
@@ -149,6 +150,16 @@ struct NumericLu {
   double klu_rcond = 0.0;  // KLU: the rcond of the pivoting factorisation that chose their pivots
   int sign = 0;
   double log10_det = -INFINITY;
+  // UMFPACK: a copy of L by rows (umfpack_copy.hpp), made at the first unrefined solve after
+  // copy_after_solves of them (LuReuse::copy_after_solves; negative: never); later unrefined
+  // solves read it, with the same bits.
+  int copy_after_solves = -1;
+  mutable int unrefined_before_copy = 0;
+  mutable bool copy_tried = false;
+  mutable std::unique_ptr<UmfpackCopy> umfpack_copy;
+  mutable std::mutex copy_mutex;
+  // The copy for this unrefined solve (null: UMFPACK solves it alone).
+  const UmfpackCopy* umfpack_copied() const;
   NumericLu() = default;
   NumericLu(const NumericLu&) = delete;
   NumericLu& operator=(const NumericLu&) = delete;
@@ -162,6 +173,13 @@ struct NumericLu {
     if (klu) return solve_klu(sys == UMFPACK_At, b, refine);
     if (!numeric) throw std::logic_error("LuFactor::solve without a successful factorisation");
     Eigen::VectorXd x(b.size());
+    if (!refine && sys == UMFPACK_A) {
+      if (const UmfpackCopy* c = umfpack_copied()) {
+        ++lu_statistics().unrefined_solves;
+        c->solve(numeric, b.data(), x.data());
+        return x;
+      }
+    }
     double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
     umfpack_control(control);
     if (!refine) control[UMFPACK_IRSTEP] = 0;

@@ -9,7 +9,8 @@
 // run (load steps and q1); -krylov / -exact: SolverOptions::krylov_solves on / off (GMRES with
 // deferred factorisations, or an LU per solve) instead of its default. Environment:
 // GRANSTAB_KRYLOV_TOLERANCE, GRANSTAB_KRYLOV_MAX_ITERATIONS, GRANSTAB_LOWRANK_MAX_COLUMNS,
-// GRANSTAB_LOWRANK_MAX_RANK, GRANSTAB_METIS_MIN_DOFS override the LuReuse limits.
+// GRANSTAB_LOWRANK_MAX_RANK, GRANSTAB_METIS_MIN_DOFS, GRANSTAB_COPY_AFTER_SOLVES override the
+// LuReuse limits.
 // With CURVE.csv, the q1 run's curve (the columns of granstab q1 that do not depend on timing or
 // the Hill indicator) is written there, to compare solver changes. GRANSTAB_TILE_SAVE=FILE writes
 // the tiled sample there (a granstab configuration, e.g. for `granstab sic` on the same N).
@@ -57,6 +58,8 @@ int main(int argc, char** argv) {
     statics::default_lu_reuse().max_rank = std::atoi(r);
   if (const char* m = std::getenv("GRANSTAB_METIS_MIN_DOFS"))
     statics::default_lu_reuse().metis_min_dofs = std::atoi(m);
+  if (const char* c = std::getenv("GRANSTAB_COPY_AFTER_SOLVES"))
+    statics::default_lu_reuse().copy_after_solves = std::atoi(c);
   const Configuration config = bench::tile(read_configuration(argv[1]), nx, ny);
   if (const char* save = std::getenv("GRANSTAB_TILE_SAVE")) write_configuration(config, save);
   using Clock = std::chrono::steady_clock;
@@ -140,8 +143,10 @@ int main(int argc, char** argv) {
         lu.numeric, lu.symbolic, lu.refactorisations, lu.low_rank,
         lu.low_rank > 0 ? double(lu.rank_sum) / lu.low_rank : 0.0, lu.too_many, lu.solves,
         lu.solve_seconds, lu.unrefined_solves);
-    std::printf("LuFactor CPU: symbolic analyses %.2f s, numeric factorisations %.2f s\n",
-                lu.symbolic_seconds, lu.numeric_seconds);
+    std::printf(
+        "LuFactor CPU: symbolic analyses %.2f s, numeric factorisations %.2f s, %ld copies of "
+        "factors %.2f s\n",
+        lu.symbolic_seconds, lu.numeric_seconds, lu.copies, lu.copy_seconds);
     std::printf(
         "LuFactor deferred: %ld deferred factorisations (%ld factorised later), %ld GMRES solves "
         "(%ld over the bound), %ld iterations, %.2f s CPU\n",
