@@ -168,9 +168,11 @@ const UmfpackCopy* NumericLu::umfpack_copied() const {
   copy_tried = true;
   const double t0 = thread_seconds();
   auto copy = std::make_unique<UmfpackCopy>();
-  if (copy->assign(numeric, static_cast<int>(k().rows()))) umfpack_copy = std::move(copy);
   LuStatistics& statistics = lu_statistics();
-  ++statistics.copies;
+  if (copy->assign(numeric, static_cast<int>(k().rows()))) {
+    umfpack_copy = std::move(copy);
+    ++statistics.copies;
+  }
   statistics.copy_seconds += thread_seconds() - t0;
   return umfpack_copy.get();
 }

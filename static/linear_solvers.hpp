@@ -158,7 +158,7 @@ struct LuStatistics {
   double solve_seconds = 0.0;     // thread CPU seconds of the refined UMFPACK solves
   double symbolic_seconds = 0.0;  // thread CPU seconds of the symbolic analyses
   double numeric_seconds = 0.0;   // thread CPU seconds of the numeric factorisations
-  long copies = 0;                // UMFPACK factors copied out for unrefined solves (UmfpackCopy)
+  long copies = 0;                // UMFPACK factors whose L was copied (UmfpackCopy)
   double copy_seconds = 0.0;      // thread CPU seconds of those copies
   // The same split by SolvePhase: numeric factorisations, GMRES solves (converged), over the
   // bound, iterations, CPU seconds.
