@@ -4,6 +4,8 @@
 
 #include <umfpack.h>
 
+#include "static/numeric_lu.hpp"
+
 namespace granstab::statics {
 
 bool UmfpackCopy::assign(void* numeric, int n) {
@@ -44,8 +46,7 @@ void UmfpackCopy::solve(void* numeric, const double* b, double* x) const {
   wi.resize(n_);
   w.resize(static_cast<std::size_t>(n_));
   double control[UMFPACK_CONTROL], info[UMFPACK_INFO];
-  umfpack_di_defaults(control);
-  control[UMFPACK_PRL] = 0;
+  umfpack_control(control);
   if (umfpack_di_wsolve(UMFPACK_U_Qt, nullptr, nullptr, nullptr, x, y.data(), numeric, control,
                         info, wi.data(), w.data()) != UMFPACK_OK)
     throw std::runtime_error("UMFPACK solve failed");
