@@ -379,9 +379,11 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   }
   PredictorResult last_check = check;
   int attempts = 0;
+  bool quiet = false;  // the last accepted step changed no status
   const auto report_progress = [&](double at) {
     if (options.on_progress)
-      options.on_progress({at, states, attempts, result.curve.back().n_sliding, step});
+      options.on_progress(
+          {at, states, attempts, result.curve.back().n_sliding, step, false, quiet});
   };
   report_progress(lambda);
 
@@ -393,6 +395,13 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   const double inf = std::numeric_limits<double>::infinity();
   double event_below = inf;  // adaptive: a status change is known to happen below this load
   int successes_since_cut = 0;
+  // The load that the latest cut step (at most dq) failed to reach, while every step accepted
+  // since then changed no status; otherwise inf. Such steps are elastic on one status set, so the
+  // state they reach lies on the failed step's path (to the O(step^2) of the tangential measure)
+  // and an attempt at that load from there fails again (63 of 64 did in series A's q1). So it is
+  // halved before it is made, except at the floor, where the bracket needs the failure: the end
+  // bracket takes one attempt per halving instead of two.
+  double failed_load = inf;
   std::vector<char> beyond;  // contacts the latest failed attempt made slide
   // A status set with dropped rows out of balance (floppy rotations, a loaded disk whose contacts
   // all open) has no solution, like any inconsistent set:
@@ -466,7 +475,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       ++states;
       if (options.on_accepted) options.on_accepted(lambda, net);
       if (options.stop_when && options.stop_when(result.curve.back())) break;
-      const bool quiet = same_statuses(last_check, s) && check.statuses == last_check.statuses;
+      quiet = same_statuses(last_check, s) && check.statuses == last_check.statuses;
       const double stable_to =
           adaptive ? stable_span(spectrum, last_check, next, check, quiet, step_taken) : 0.0;
       const bool grow = adaptive && step_taken >= dq / (1.0 + 1e-9) && stable_to >= 2.0 * dq;
@@ -493,6 +502,12 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
         step = std::min(dq, 2.0 * step);
         successes_since_cut = 0;
       }
+      if (!quiet || lambda >= failed_load - 1e-9 * dq) failed_load = inf;
+      if (lambda + step >= failed_load - 1e-9 * dq) {
+        while (lambda + step >= failed_load - 1e-9 * dq && step * 0.5 >= options.dq_min)
+          step *= 0.5;
+        successes_since_cut = 0;
+      }
       continue;
     }
     ++result.rejected[detail];
@@ -510,6 +525,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       continue;
     }
     // §S3.3: halve on failure down to the floor; the bracket is then [lambda, lambda + step].
+    failed_load = lambda + step;
     if (step * 0.5 < options.dq_min) {
       if (unbalanced && !at_floor_exact) {
         at_floor_exact = true;  // the same attempt again, settling the unbalanced rows

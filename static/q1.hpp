@@ -42,6 +42,7 @@ struct StepProgress {
   int n_sliding = 0;      // sliding contacts at the last accepted state
   double step = 0.0;      // the current step of the load parameter
   bool finished = false;  // the last call, once the run has ended
+  bool quiet = false;     // the last accepted step changed no contact status
 };
 
 struct CurvePoint;
