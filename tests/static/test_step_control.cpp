@@ -53,7 +53,7 @@ bool on_grid(double load, double q0, double dq) {
 
 // The same q1 and criterion, within the fixed run's bracket plus the step error, in fewer
 // attempts. The step error of q1 is first order in dq (docs/static.md §S3.3: 0.283260 at
-// dq = 1e-2 against 0.283392 at 1e-3, 6e-6 more at 5e-4), so 0.1 dq is a generous bound of it at
+// dq = 1e-2 against 0.283394 at 1e-3, 4e-6 more at 5e-4), so 0.1 dq is a generous bound of it at
 // dq = 1e-3; the two runs agreed to round-off when this was written.
 TEST(StepControl, AdaptiveQ1WithinTheFixedBracketInFewerAttempts) {
   const StabilityResult &f = runs().fixed, &a = runs().adaptive;
