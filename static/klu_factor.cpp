@@ -107,16 +107,24 @@ bool factorize_klu(NumericLu& lu, bool& reused) {
   const double* u = static_cast<const double*>(lu.klu->Udiag);
   thread_local std::vector<char> seen;
   int sign = permutation_sign(lu.klu->Pnum, n, seen) * permutation_sign(symbolic->Q, n, seen);
-  double log10_det = 0.0;
   for (int i = 0; i < n; ++i) {
     if (u[i] == 0.0 || !std::isfinite(u[i])) return false;
     if (u[i] < 0.0) sign = -sign;
-    log10_det += std::log10(std::abs(u[i]));
-    if (lu.klu->Rs) log10_det += std::log10(lu.klu->Rs[i]);
   }
   lu.sign = sign;
-  lu.log10_det = log10_det;
   return true;
+}
+
+double NumericLu::log10_abs_det() const {
+  if (!klu) return umfpack_log10_det;
+  const int n = static_cast<int>(k().rows());
+  const double* u = static_cast<const double*>(klu->Udiag);
+  double log10_det = 0.0;
+  for (int i = 0; i < n; ++i) {
+    log10_det += std::log10(std::abs(u[i]));
+    if (klu->Rs) log10_det += std::log10(klu->Rs[i]);
+  }
+  return log10_det;
 }
 
 void NumericLu::solve_columns(int sys, Eigen::MatrixXd& x) const {

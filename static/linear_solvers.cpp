@@ -89,7 +89,7 @@ bool factorize_numeric(NumericLu& lu, bool& reused, const LuReuse& reuse) {
   if (umfpack_di_get_determinant(&mantissa, &exponent, lu.numeric, info) != UMFPACK_OK)
     return false;
   lu.sign = mantissa > 0.0 ? 1 : (mantissa < 0.0 ? -1 : 0);
-  lu.log10_det = std::log10(std::abs(mantissa)) + exponent;
+  lu.umfpack_log10_det = std::log10(std::abs(mantissa)) + exponent;
   lu.copy_after_solves = reuse.copy_after_solves;
   return lu.sign != 0;
 }
@@ -232,11 +232,9 @@ bool LuFactor::factorize(std::shared_ptr<const SparseMatrix> shared) {
   m.deferred = false;
   m.singular = false;
   det_sign_ = 0;
-  log10_det_ = -INFINITY;
   symbolic_reused_ = false;
   if (k.rows() == 0) {
     det_sign_ = 1;
-    log10_det_ = 0.0;
     return true;
   }
   const bool deferrable = m.reuse.krylov && k.rows() >= m.reuse.krylov_min_dofs;
@@ -266,7 +264,6 @@ bool LuFactor::factorize(std::shared_ptr<const SparseMatrix> shared) {
       symbolic_reused_ = true;
       if (m.full) {
         det_sign_ = m.full->sign;
-        log10_det_ = m.full->log10_det;
         return true;
       }
       ++lu_statistics().low_rank;
@@ -274,15 +271,12 @@ bool LuFactor::factorize(std::shared_ptr<const SparseMatrix> shared) {
       const Eigen::MatrixXd& lu = m.update->capacitance.matrixLU();
       int sign = m.update->base->sign *
                  static_cast<int>(m.update->capacitance.permutationP().determinant());
-      double log10_det = m.update->base->log10_det;
       for (Eigen::Index i = 0; i < lu.rows(); ++i) {
         if (lu(i, i) == 0.0 || !std::isfinite(lu(i, i))) return false;
         if (lu(i, i) < 0.0) sign = -sign;
-        log10_det += std::log10(std::abs(lu(i, i)));
       }
       m.k = std::move(shared);
       det_sign_ = sign;
-      log10_det_ = log10_det;
       remember_operator({nullptr, m.update});
       return true;
     }
@@ -307,7 +301,6 @@ bool LuFactor::factorize(std::shared_ptr<const SparseMatrix> shared) {
   lu->matrix = std::move(shared);
   if (!factorize_numeric(*lu, symbolic_reused_, m.reuse)) return false;
   det_sign_ = lu->sign;
-  log10_det_ = lu->log10_det;
   m.full = lu;
   // Kept as a base only where one can serve: held here, a KLU factor would not become a spare.
   if (updatable || deferrable) remember_factorisation(lu);
@@ -326,11 +319,9 @@ bool LuFactor::factorise_deferred() const {
   if (!factorize_numeric(*lu, reused, m.reuse)) {
     m.singular = true;
     det_sign_ = 0;
-    log10_det_ = -INFINITY;
     return false;
   }
   det_sign_ = lu->sign;
-  log10_det_ = lu->log10_det;
   m.full = lu;
   remember_factorisation(lu);
   return true;
@@ -343,7 +334,16 @@ int LuFactor::determinant_sign() const {
 
 double LuFactor::log10_abs_determinant() const {
   factorise_deferred();
-  return log10_det_;
+  const Impl& m = *impl_;
+  if (det_sign_ == 0) return -INFINITY;
+  if (m.update) {
+    // det(K0 + U V^T) = det K0 det(C), C the capacitance matrix.
+    const Eigen::MatrixXd& lu = m.update->capacitance.matrixLU();
+    double log10_det = m.update->base->log10_abs_det();
+    for (Eigen::Index i = 0; i < lu.rows(); ++i) log10_det += std::log10(std::abs(lu(i, i)));
+    return log10_det;
+  }
+  return m.full ? m.full->log10_abs_det() : 0.0;  // no factor: the empty matrix
 }
 
 bool LuFactor::factorised() const { return !impl_->deferred; }

@@ -216,7 +216,6 @@ class LuFactor {
   bool factorise_deferred() const;
   Eigen::VectorXd solve_system(const Eigen::VectorXd& b, bool transposed) const;
   mutable int det_sign_ = 0;
-  mutable double log10_det_ = 0.0;
   bool symbolic_reused_ = false;
 };
 

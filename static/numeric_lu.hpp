@@ -149,7 +149,10 @@ struct NumericLu {
   klu_numeric* klu = nullptr;                   // the factors
   double klu_rcond = 0.0;  // KLU: the rcond of the pivoting factorisation that chose their pivots
   int sign = 0;
-  double log10_det = -INFINITY;
+  // log10 |det K|: UMFPACK's, kept at the factorisation; KLU's, summed from its factors when
+  // asked (only tests ask: a log10 per pivot and row scale was ~1 % of a q1 run's instructions).
+  double log10_abs_det() const;
+  double umfpack_log10_det = -INFINITY;
   // UMFPACK: a copy of L by rows (umfpack_copy.hpp), made at the first unrefined solve after
   // copy_after_solves of them (LuReuse::copy_after_solves; negative: never); later unrefined
   // solves read it, with the same bits.
@@ -205,7 +208,7 @@ struct NumericLu {
 };
 
 // Factorises lu.k (compressed) with KLU, the analysis of its pattern taken from this thread's
-// cache (reused: found there); sets sign and log10_det. False when singular or failed.
+// cache (reused: found there); sets sign. False when singular or failed.
 bool factorize_klu(NumericLu& lu, bool& reused);
 // Drops this thread's KLU analyses and with them their spare factors: a run that starts here
 // takes no pivot order from an earlier one (forget_factorisations).
