@@ -408,7 +408,11 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
   // the step is halved (§S3.3), and smaller steps usually reach other statuses. Only the attempt
   // at the floor settles them exactly (SolverOptions::resolve_unbalanced_rows) before the
   // failure may count as q1: there the rate problem itself is decided. (Settling them in every
-  // step takes larger steps through non-unique finite-step solutions: docs/validation.md.)
+  // step takes larger steps through non-unique finite-step solutions: docs/validation.md.) The
+  // halvings closed in on that load, and the settled step crossed it: the step returns to dq at
+  // once, not by doublings from the floor (26 more states per such crossing on series A). After
+  // other cuts it still doubles: returning to dq there took periodic-n100 at mu = 0.15 onto the
+  // path that stops at 0.299 (dq = 1e-3), with more rejected steps.
   bool at_floor_exact = false;
   while (result.steps < options.max_steps && lambda < options.load_stop) {
     const SolverOptions& solver = at_floor_exact ? exact : options.solver;
@@ -457,6 +461,7 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
       detail = s.failure;
     }
     if (accepted) {
+      const bool settled_at_floor = at_floor_exact;
       at_floor_exact = false;
       net = std::move(trial);
       contacts = std::move(trial_contacts);
@@ -495,6 +500,9 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
         step = std::max(dq, span);
         successes_since_cut = 0;
       } else if (step > dq_above) {
+        step = dq;
+        successes_since_cut = 0;
+      } else if (settled_at_floor) {
         step = dq;
         successes_since_cut = 0;
       } else if (++successes_since_cut >= 2 && step < dq) {

@@ -168,5 +168,35 @@ TEST(StepControl, AFailedLoadIsNotTriedAgainAfterStepsWithoutStatusChange) {
   EXPECT_LE(r.q1_bracket[1] - r.q1_bracket[0], 2e-7);
 }
 
+// A step of the floor that settled pinned rotation rows (§S3.5) crossed the load that the halvings
+// before it closed in on; the next attempt is a step of dq, not of twice the floor. At mu = 0.35
+// periodic-n100 crosses such a load at dq = 1e-3: 217 -> 192 states when this was written, the
+// same q1 (0.610883301) and 29 rejected attempts.
+TEST(StepControl, AStepSettledAtTheFloorIsFollowedByAStepOfDq) {
+  Configuration config = periodic_n100();
+  config.material.mu = 0.35;
+  Q1Options o = without_hill(1e-3);
+  std::vector<StepProgress> reports;
+  o.on_progress = [&](const StepProgress& p) { reports.push_back(p); };
+  const StabilityResult r = find_q1(config, o);
+  int settled = 0;
+  for (std::size_t k = 2; k + 1 < reports.size(); ++k) {
+    const StepProgress &before = reports[k - 2], &failed = reports[k - 1], &p = reports[k];
+    // An accepted report carries the new state and the step taken; a rejected one the state it
+    // started from and the step that failed. The floor's failures end the run unless they were
+    // unbalanced rows, which the same attempt then settles.
+    const bool failed_at_floor = failed.states == before.states && failed.step < 2.0 * o.dq_min;
+    if (!failed_at_floor || p.states == failed.states || p.finished) continue;
+    ++settled;
+    EXPECT_EQ(p.step, failed.step);
+    EXPECT_NEAR(reports[k + 1].step, o.dq, 1e-9 * o.dq) << "after the state at " << p.load;
+  }
+  std::printf("q1 = %.12f [%.12f, %.12f], %d states, %d attempts, %d settled at the floor\n", r.q1,
+              r.q1_bracket[0], r.q1_bracket[1], r.steps + 1, r.attempts, settled);
+  EXPECT_GT(settled, 0);
+  EXPECT_EQ(r.criterion, Criterion::existence);
+  EXPECT_LE(r.q1_bracket[1] - r.q1_bracket[0], 2e-7);
+}
+
 }  // namespace
 }  // namespace granstab::statics
