@@ -170,12 +170,13 @@ TEST(StepControl, AFailedLoadIsNotTriedAgainAfterStepsWithoutStatusChange) {
 
 // A step of the floor that settled pinned rotation rows (§S3.5) crossed the load that the halvings
 // before it closed in on; the next attempt is a step of dq, not of twice the floor. At mu = 0.35
-// periodic-n100 crosses such a load at dq = 1e-3: 217 -> 192 states when this was written, the
-// same q1 (0.610883301) and 29 rejected attempts.
+// periodic-n100 crosses such a load at dq = 1e-3, near q = 0.5346 (to q1: 217 -> 192 states when
+// this was written, the same q1 0.610883301 and 29 rejected attempts). The run stops at 0.54.
 TEST(StepControl, AStepSettledAtTheFloorIsFollowedByAStepOfDq) {
   Configuration config = periodic_n100();
   config.material.mu = 0.35;
   Q1Options o = without_hill(1e-3);
+  o.load_stop = 0.54;
   std::vector<StepProgress> reports;
   o.on_progress = [&](const StepProgress& p) { reports.push_back(p); };
   const StabilityResult r = find_q1(config, o);
@@ -191,11 +192,10 @@ TEST(StepControl, AStepSettledAtTheFloorIsFollowedByAStepOfDq) {
     EXPECT_EQ(p.step, failed.step);
     EXPECT_NEAR(reports[k + 1].step, o.dq, 1e-9 * o.dq) << "after the state at " << p.load;
   }
-  std::printf("q1 = %.12f [%.12f, %.12f], %d states, %d attempts, %d settled at the floor\n", r.q1,
-              r.q1_bracket[0], r.q1_bracket[1], r.steps + 1, r.attempts, settled);
+  std::printf("stopped at %.12f: %d states, %d attempts, %d settled at the floor\n", r.q1,
+              r.steps + 1, r.attempts, settled);
   EXPECT_GT(settled, 0);
-  EXPECT_EQ(r.criterion, Criterion::existence);
-  EXPECT_LE(r.q1_bracket[1] - r.q1_bracket[0], 2e-7);
+  EXPECT_EQ(r.criterion, Criterion::none);  // stable up to the stop
 }
 
 }  // namespace
