@@ -15,10 +15,10 @@ granstab_add_test(test_stability_thresholds
   LIBS granstab_static_testing)
 granstab_add_test(test_load_stepping
   SOURCES test_load_stepping.cpp
-  LIBS granstab_static_testing)
+  LIBS granstab_static_testing granstab_dense_reference)
 granstab_add_test(test_hill_and_samples
   SOURCES test_hill_and_samples.cpp
-  LIBS granstab_static)
+  LIBS granstab_static granstab_dense_reference)
 target_compile_definitions(test_hill_and_samples PRIVATE
   GRANSTAB_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/data/samples")
 granstab_add_test(test_q1_command

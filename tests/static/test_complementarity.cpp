@@ -8,8 +8,9 @@
 #include <set>
 #include <vector>
 
-#include <Eigen/LU>
+#include <Eigen/Core>
 
+#include "dense_reference.hpp"
 #include "static/complementarity.hpp"
 
 namespace granstab::statics {
@@ -35,7 +36,7 @@ bool block_pivoting_settles(const Eigen::MatrixXd& m, const Eigen::VectorXd& q) 
         qa[i] = -q[a[i]];
         for (std::size_t j = 0; j < a.size(); ++j) maa(i, j) = m(a[i], a[j]);
       }
-      const Eigen::VectorXd la = maa.fullPivLu().solve(qa);
+      const Eigen::VectorXd la = dense_reference::full_pivot_solve(maa, qa);
       for (std::size_t i = 0; i < a.size(); ++i) lambda[a[i]] = la[i];
     }
     const Eigen::VectorXd w = q + m * lambda;
@@ -238,9 +239,9 @@ LcpResult::Outcome enumerated_outcome(const Eigen::MatrixXd& m, const Eigen::Vec
         qa[i] = -q[a[i]];
         for (int j = 0; j < k; ++j) maa(i, j) = m(a[i], a[j]);
       }
-      const Eigen::FullPivLU<Eigen::MatrixXd> lu(maa);
-      const Eigen::VectorXd la = lu.solve(qa);
-      if (!lu.isInvertible()) {
+      bool invertible = false;
+      const Eigen::VectorXd la = dense_reference::full_pivot_solve(maa, qa, &invertible);
+      if (!invertible) {
         singular = singular || (maa * la - qa).norm() <= 1e-9 * std::max(1.0, qa.norm());
         continue;
       }

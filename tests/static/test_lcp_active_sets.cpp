@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
+#include "dense_reference.hpp"
 #include "static/complementarity.hpp"
 #include "static/load_step_parts.hpp"
 
@@ -54,10 +55,11 @@ struct System {
     g = Eigen::VectorXd::Zero(n);
     for (int a = 0; a < n; a += 2) g[a] = 0.2 * (1.0 + u(rng));  // off the cone: g > 0
     b = Eigen::VectorXd::NullaryExpr(nk, [&] { return u(rng); });
-    const Eigen::MatrixXd s_inverse = Eigen::MatrixXd(s).inverse();
+    const Eigen::MatrixXd s_inverse = dense_reference::inverse(Eigen::MatrixXd(s));
     q = g + v * (s_inverse * b);
     q_scale = q.cwiseAbs().maxCoeff();
-    m = Eigen::MatrixXd(-(Eigen::MatrixXd(v) * s_inverse * Eigen::MatrixXd(w)));
+    m = -dense_reference::product(dense_reference::product(Eigen::MatrixXd(v), s_inverse),
+                                  Eigen::MatrixXd(w));
     m.diagonal().array() += k_t;
     m /= k_t;
   }

@@ -6,8 +6,9 @@
 #include <cstdio>
 #include <vector>
 
-#include <Eigen/LU>
+#include <Eigen/Core>
 
+#include "dense_reference.hpp"
 #include "networks.hpp"
 #include "static/load_step.hpp"
 #include "static/q1.hpp"
@@ -101,7 +102,7 @@ double lattice_sliding_onset(double kt_over_kn, double mu) {
       -0.75 + s3 * b, -2.25 - s3 * b, -s3,   //
       b + 0.25 * mu, -b + 0.75 * mu, 0.0;
   const Eigen::Vector3d rhs(s3 - 3.0 * f0, s3 - 3.0 * f0, mu * f0);
-  return m.fullPivLu().solve(rhs)[2];
+  return dense_reference::full_pivot_solve(m, rhs)[2];
 }
 
 TEST(KappaScaling, LatticeHardensBySlidingUpToTheRigidLimit) {
