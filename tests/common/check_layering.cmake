@@ -1,0 +1,25 @@
+# The dependency direction of docs/architecture.md, checked on the sources: common/ includes no
+# solver or driver header, and neither solver includes the other's or a driver's.
+#   cmake -DSOURCE_DIR=<repository> -P check_layering.cmake
+# Fails naming each file, line and include that breaks it.
+set(forbidden_common "static/|dynamic/|drivers/")
+set(forbidden_static "dynamic/|drivers/")
+set(forbidden_dynamic "static/|drivers/")
+set(broken "")
+foreach(layer common static dynamic)
+  file(GLOB_RECURSE sources "${SOURCE_DIR}/${layer}/*.hpp" "${SOURCE_DIR}/${layer}/*.cpp")
+  foreach(source IN LISTS sources)
+    file(STRINGS "${source}" lines)
+    set(line_number 0)
+    foreach(line IN LISTS lines)
+      math(EXPR line_number "${line_number} + 1")
+      if(line MATCHES "^[ \t]*#[ \t]*include[ \t]+\"(${forbidden_${layer}})")
+        file(RELATIVE_PATH where "${SOURCE_DIR}" "${source}")
+        string(APPEND broken "\n  ${where}:${line_number}: ${line}")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+if(broken)
+  message(FATAL_ERROR "includes against the layering of docs/architecture.md:${broken}")
+endif()
