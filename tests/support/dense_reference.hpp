@@ -1,7 +1,7 @@
 #pragma once
 // Dense reference answers for the tests of the sparse solvers: Eigen's dense decompositions,
 // compiled once here. Each test that instantiated them itself spent 10-25 s of CPU compiling them
-// (twice that under ASan), most of CI's test compile time (docs/reliability.md, "CI time").
+// (twice that under ASan), the heaviest test sources of CI (docs/reliability.md, "CI time").
 #include <Eigen/Core>
 
 namespace granstab::dense_reference {
