@@ -499,10 +499,8 @@ StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath
           span = std::ceil((options.load_stop - lambda) / dq - 1e-6) * dq;
         step = std::max(dq, span);
         successes_since_cut = 0;
-      } else if (step > dq_above) {
-        step = dq;
-        successes_since_cut = 0;
-      } else if (settled_at_floor) {
+      } else if (step > dq_above || settled_at_floor) {
+        // Back to dq after a step above it, and after a floor step that settled rows (above).
         step = dq;
         successes_since_cut = 0;
       } else if (++successes_since_cut >= 2 && step < dq) {
