@@ -49,7 +49,8 @@ struct NegativeEigenvalues {
   int real = -1;                       // real negative eigenvalues of K
   std::vector<Eigen::VectorXd> modes;  // their (real) eigenvectors, unit length
   // Smallest |eigenvalue| among those computed (NaN when none were: the symmetric part positive
-  // definite). The step control grows steps only while it stays away from 0 (q1.cpp).
+  // definite). The step control grows steps only while it stays away from 0 (stable_span,
+  // stability_check.cpp).
   double nearest_zero = std::numeric_limits<double>::quiet_NaN();
   // The Arnoldi's Ritz vectors folded into one real vector (empty when none ran): the start of the
   // next state's Arnoldi, whose eigenvalues nearest 0 moved little since.

@@ -1,6 +1,7 @@
 #pragma once
 // One load step of STATIC.md §S3: preparation (§S3.0), predictor with the complementarity loop
 // over contact statuses (§S3.1), Newton corrector on the exact equilibrium (§S3.2).
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +12,9 @@
 #include "static/tangent.hpp"
 
 namespace granstab::statics {
+
+// Moves the loads of net to the value lambda of the load parameter.
+using LoadPath = std::function<void(Network& net, double lambda)>;
 
 struct SolverOptions {
   double tolerance = 1e-10;  // relative residual of the corrector and the polish

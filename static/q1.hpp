@@ -135,9 +135,6 @@ struct StabilityResult {
 // §S3.0 on net (statics::prepare: rattlers, dofs, the equilibrium polished) and how far it moved.
 StartPolish polish_start(Network& net, const SolverOptions& options);
 
-// Moves the loads of net to the value lambda of the load parameter.
-using LoadPath = std::function<void(Network& net, double lambda)>;
-
 // Generic stepping from an equilibrium network (prepared here) along a load path.
 // reference_length is the stage's reference for the strains.
 StabilityResult trace_to_instability(Network net, double lambda0, const LoadPath& path,

@@ -1,8 +1,8 @@
 // Matrices of the stability check for bench_mumps (issue #18 item 4): runs find_q1 on a sample
 // (dq = 1e-3, Hill off, the library's defaults otherwise) up to the last of the given loads,
-// keeps the first accepted state at or past each, rebuilds its check (as q1.cpp check_state:
-// the statuses of a 1e-6 dq load increment) and writes K(active set) on the kept dofs as Matrix
-// Market, DIR/k-n{N}-q{load}.mtx. With tiles nx ny > 1 the state is also tiled nx x ny (a
+// keeps the first accepted state at or past each, rebuilds its check (as stability_check.cpp
+// check_state: the statuses of a 1e-6 dq load increment) and writes K(active set) on the kept dofs
+// as Matrix Market, DIR/k-n{N}-q{load}.mtx. With tiles nx ny > 1 the state is also tiled nx x ny (a
 // periodic equilibrium again, as bench_static tiles the start) and its check written too.
 // Not part of ctest; no MUMPS here.
 //   bench_mumps_dump SAMPLE DIR nx ny LOAD...
