@@ -2,8 +2,9 @@
 // Renumbering disks in space-filling order. The engine streams through its pairs in index
 // order and reads each partner's data: with disks numbered at random (a sample grown from a
 // random gas) the partners of a disk are scattered in memory, which costs ~40% at N = 22400
-// (bench/README.md). Numbering is arbitrary in the data model, so a protocol may renumber a
-// sample once (e.g. the random gas before compaction) and keep that numbering.
+// (docs/notes/2026-12-02-md-engine-measurements.md, "Disk numbering"). Numbering is arbitrary in
+// the data model, so a protocol may renumber a sample once (e.g. the random gas before
+// compaction) and keep that numbering.
 #include <cstdint>
 #include <vector>
 

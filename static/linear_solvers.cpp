@@ -190,8 +190,8 @@ struct LuFactor::Impl {
 
 namespace {
 // glibc serves UMFPACK's large blocks by mmap and unmaps them on free, so every factorisation
-// page-faults its memory in afresh: 9 s of system and ~10 s of user CPU of 56 s for q1 at
-// N = 1400 (bench/README.md, "Static solver"). Keep freed memory in the heap instead
+// page-faults its memory in afresh: 19 % of q1 at N = 1400, with 10 s of system time of 62 s
+// (docs/notes/2026-12-02-static-performance-log.md). Keep freed memory in the heap instead
 // (process-wide, once; the peak footprint is unchanged). Allocation only: the same bits.
 void keep_freed_memory() {
 #ifdef __GLIBC__

@@ -80,7 +80,7 @@ struct LuReuse {
   // Deferral only for matrices of at least this many rows, those UMFPACK factorises (see
   // klu_max_dofs): below, KLU refactorises into a spare's pivot order in about the time of a
   // GMRES solve, and factorising every matrix took 10-12 % off three of the main job's six static
-  // halves, 1-3 % off the others (bench/README.md "Static solver"). At 2538 rows (UMFPACK)
+  // halves, 1-3 % off the others (docs/notes/2026-12-05-static-main-job.md). At 2538 rows (UMFPACK)
   // deferral still saves 3 %.
   int krylov_min_dofs = 2000;
   int max_krylov_iterations = 24;  // about the cost of one numeric factorisation at N = 5600
@@ -102,7 +102,7 @@ struct LuReuse {
   // UMFPACK's fill-reducing ordering: METIS (nested dissection, through CHOLMOD) for matrices of
   // at least this many rows, AMD/COLAMD (UMFPACK's default) below. At 61248 dofs (the N = 22400
   // tiling of series B) METIS takes 34 % off the numeric factorisations and 17 % off q1's first
-  // 20 states; at 15312 dofs 12 % and 1 %; at 3828 nothing (bench/README.md "Static solver").
+  // 20 states; at 15312 dofs 12 % and 1 %; at 3828 nothing (commit 0d8bbc1).
   // The threshold keeps the shipped samples (N <= 1400) on their path to the bit.
   int metis_min_dofs = 40000;
   // KLU instead of UMFPACK for matrices of fewer rows: UMFPACK's numeric factorisation has a fixed
@@ -111,7 +111,7 @@ struct LuReuse {
   // thread): 282 dofs (periodic-n100) 0.48 -> 0.30 ms, 1128 dofs (2 x 2 tiling) 3.9 -> 2.6 ms,
   // 2538 (3 x 3) 9.6 -> 7.4. Whole q1 runs, side by side: series A (N = 1024, 2888 dofs) 9-11 %
   // faster with KLU (its path moves by round-off, q1 the same bits), series B (3819 dofs) 8-12 %
-  // slower, so the threshold lies between them (bench/README.md "Static solver").
+  // slower, so the threshold lies between them (docs/notes/2026-12-05-static-main-job.md).
   int klu_max_dofs = 3300;
   // Iterative refinement in solve and solve_transpose (UMFPACK's, or klu_factor.cpp's for KLU: up
   // to 2 steps against K, 5-8 unrefined solves' worth). Off, a solve is the exact inverse of the

@@ -42,8 +42,8 @@ class InverseOperator {
     ++negative_eigenvalue_statistics().arnoldi_solves;
     // Unrefined: Arnoldi converges on the inverse of the computed factors as well (a backward-
     // stable perturbation of K) in as many solves and with the same counts on the shipped samples;
-    // UMFPACK's refinement made each solve 5-8 times as expensive (12.6 -> 1.5 s of CPU in q1 at
-    // N = 1400, bench/README.md "Static solver").
+    // UMFPACK's refinement made each solve 5-8 times as expensive (2.9 against 0.39 ms per solve
+    // at N = 1400; docs/notes/2026-12-02-static-speed-measurements.md).
     Eigen::Map<Eigen::VectorXd>(y_out, n_) =
         lu_.solve_unrefined(Eigen::Map<const Eigen::VectorXd>(x_in, n_));
   }

@@ -30,7 +30,7 @@ inline void umfpack_control(double* control) {
   control[UMFPACK_PRL] = 0;
   // Allocate the estimated peak of the numeric factorisation at once (default: 70 % of it): the
   // reallocations and copies as the factors grow took ~19 % of a q1 run at N = 1400 (perf). The
-  // arithmetic is the same, hence the same bits (bench/README.md, "Static solver").
+  // arithmetic is the same, hence the same bits (docs/notes/2026-12-02-static-performance-log.md).
   control[UMFPACK_ALLOC_INIT] = 1.0;
 }
 
