@@ -338,7 +338,7 @@ PredictorResult predict(const Network& net, const SolverOptions& options, Timing
   // is wanted, and GMRES preconditioned by the last state's LU mostly failed on it. A step's:
   // deferred, 322 of their 527 GMRES solves in q1 at N = 5600 went over the bound; factorised,
   // their LU is also a nearer preconditioner for the corrector, and that q1 took 12 % less time
-  // (as long as before at N = 1024 and 1400; bench/README.md, "Issue #18's targets").
+  // (as long as before at N = 1024 and 1400; docs/notes/2026-12-06-bench-static-history.md).
   LuReuse reuse = lu_reuse(options);
   LuReuse first = reuse;  // the loop's first factorisation
   if (reuse.krylov) {

@@ -88,7 +88,7 @@ struct LuReuse {
   // the operator it would take needed more iterations than this (or failed): the matrices of a
   // corrector drift away from their preconditioner, and the next solve would cost more still or
   // run over the bound. On the N = 5600 tiling's q1, 177 -> 79 solves over the bound and 16102 ->
-  // 11662 GMRES iterations, 5 % less time (bench/README.md, "Issue #18's targets").
+  // 11662 GMRES iterations, 5 % less time (docs/notes/2026-12-07-stale-preconditioner.md).
   int krylov_stale_iterations = 12;
   // An UMFPACK factor's unrefined solves read a copy of its L by rows (UmfpackCopy: the same
   // bits, a third less time per solve) from the first one after this many (negative: never). The
