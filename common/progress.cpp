@@ -61,13 +61,18 @@ std::string Progress::format_estimated(std::string_view label, double done, doub
                                        std::optional<double> seconds_left, std::string_view basis,
                                        std::string_view detail) {
   char buf[200];
-  std::snprintf(buf, sizeof buf, "%.6g  elapsed %s  ETA %s%s (estimate: %.*s)", done,
+  std::snprintf(buf, sizeof buf, "%.6g  elapsed %s  ETA %s%s", done,
                 format_duration(elapsed).c_str(), seconds_left ? "~" : "",
-                seconds_left ? format_duration(*seconds_left).c_str() : "?",
-                static_cast<int>(basis.size()), basis.data());
+                seconds_left ? format_duration(*seconds_left).c_str() : "?");
   std::string line(label);
   line += ": ";
   line += buf;
+  // No basis: a run with no end to estimate towards (a static run without --q-max) says "ETA ?".
+  if (!basis.empty()) {
+    line += " (estimate: ";
+    line += basis;
+    line += ")";
+  }
   if (!detail.empty()) {
     line += "  ";
     line += detail;

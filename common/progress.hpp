@@ -20,7 +20,8 @@ class Progress {
   // appended to the line (a residual, the current q, ...).
   void update(double done, std::string_view detail = {});
   // For runs with no known end: `done` units so far and an estimate of the seconds left (none:
-  // no estimate yet), printed as "ETA ~X (estimate: BASIS)".
+  // no estimate yet), printed as "ETA ~X (estimate: BASIS)"; an empty basis (no end known to
+  // estimate towards) prints "ETA ?" alone.
   void update_estimated(double done, std::optional<double> seconds_left, std::string_view basis,
                         std::string_view detail = {});
   // Prints the final line (elapsed wall time) if enabled.

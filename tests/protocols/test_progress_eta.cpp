@@ -48,6 +48,9 @@ TEST(Progress, TheEstimatedEtaIsLabelledAsAnEstimate) {
             "prepare: 12000  elapsed 3 s  ETA ~8 s (estimate: residual decay)  Phi 0.8");
   EXPECT_EQ(Progress::format_estimated("prepare", 200, 0.1, std::nullopt, "residual decay", ""),
             "prepare: 200  elapsed 0 s  ETA ? (estimate: residual decay)");
+  // A static run with no --q-max has no end to estimate towards: no empty "(estimate: )".
+  EXPECT_EQ(Progress::format_estimated("probe", 445, 29.0, std::nullopt, "", "q 0.42"),
+            "probe: 445  elapsed 29 s  ETA ?  q 0.42");
 }
 
 }  // namespace
