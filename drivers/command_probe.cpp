@@ -1,14 +1,17 @@
-// granstab probe SAMPLE --dq X --at q,q,...: the static states of the compare run at the given
-// loads, written as configurations (--save DIR) and probed by the dynamic engine: SIC hold of q,
-// then random perturbations with release (drivers/stability_probe.hpp). Issue #6: is a static
-// state past some q an unstable equilibrium for the dynamic module?
+// granstab probe SAMPLE --dq X --at q,q,... [--at-q1]: the static states of the compare run at the
+// given loads, and at q1, written as configurations (--save DIR) and probed by the dynamic engine:
+// SIC hold of q, then random perturbations with release (drivers/stability_probe.hpp). Issue #6:
+// is a static state past some q an unstable equilibrium for the dynamic module? And at q1: does
+// the dynamic module confirm the loss of stability where the static run stopped?
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -26,6 +29,7 @@ struct ProbeCommandOptions {
   std::string out = "probe-out";
   std::string save;  // directory for the static states, or empty
   std::vector<double> at;
+  bool at_q1 = false;  // also the last stable state, at q1
   bool probe = true;
   crosscheck::CrosscheckOptions run;
   crosscheck::ProbeOptions probe_options;
@@ -39,6 +43,7 @@ std::string state_name(double q) {
 }
 
 void run_probe(ProbeCommandOptions o) {
+  if (o.at.empty() && !o.at_q1) throw std::invalid_argument("probe: give --at, --at-q1 or both");
   // Validated before any output exists: a refused start leaves no file behind.
   const Configuration sample =
       read_static_start(o.sample, o.start, crosscheck::require_biaxial_start).config;
@@ -48,10 +53,13 @@ void run_probe(ProbeCommandOptions o) {
   o.run.statics.hill_every = 0;  // logged only: the path does not depend on it (checked)
   o.probe_options.equilibration = o.run.equilibration;
   // The whole static run once: q1, the compliance of the bound at every state, and the states at
-  // the loads asked for.
+  // the loads asked for. Keeping them takes fixed steps (run_static_half); with --at-q1 alone the
+  // run takes the adaptive steps of `granstab q1`, so its q1 state is the one `granstab q1` (same
+  // SAMPLE, dq and material) stops at.
   const double tolerance = crosscheck::static_load_tolerance(o.run);
   std::vector<crosscheck::StaticState> states;
-  o.run.statics.on_accepted = crosscheck::keep_static_states(o.at, tolerance, states);
+  if (!o.at.empty())
+    o.run.statics.on_accepted = crosscheck::keep_static_states(o.at, tolerance, states);
   const crosscheck::CrosscheckResult full = crosscheck::run_static_half(sample, o.run);
   const std::filesystem::path dir = o.out;
   std::filesystem::create_directories(dir);
@@ -66,16 +74,21 @@ void run_probe(ProbeCommandOptions o) {
          "perturbation_steps,max_loaded_d_eps2,max_released_d_eps2,final_d_eps2,final_d_epsv,"
          "stable\n";
   std::vector<crosscheck::ProbeResult> probes;
+  // The loads asked for, then q1's state (the last stable one) with --at-q1.
+  std::vector<std::pair<double, const statics::Network*>> targets;
   for (const double q : o.at) {
     const crosscheck::StaticState* at_q = crosscheck::static_state_at(states, q, tolerance);
     if (!at_q) {
       std::printf("%9.6f beyond the static q1 = %.9g: not probed\n", q, full.statics.q1);
       continue;
     }
-    const double load = at_q->load;
-    const Configuration state =
-        crosscheck::configuration_of_static_state(at_q->network, full.start);
-    const std::vector<char> overlaps = crosscheck::overlapping_rattlers(at_q->network, state);
+    targets.emplace_back(at_q->load, &at_q->network);
+  }
+  if (o.at_q1) targets.emplace_back(full.statics.q1, &full.statics.network_at_q1);
+  for (const auto& [load, network] : targets) {
+    const double q = load;
+    const Configuration state = crosscheck::configuration_of_static_state(*network, full.start);
+    const std::vector<char> overlaps = crosscheck::overlapping_rattlers(*network, state);
     if (!o.save.empty()) {
       const std::filesystem::path file = std::filesystem::path(o.save) / state_name(q);
       write_configuration(state, file);
@@ -133,9 +146,10 @@ void add_probe_command(CLI::App& app) {
   cmd->add_option("--static-substeps", o->run.static_substeps, "as in compare")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--at", o->at, "loads q of the static states, comma-separated")
-      ->required()
-      ->delimiter(',');
+  cmd->add_option("--at", o->at, "loads q of the static states, comma-separated")->delimiter(',');
+  cmd->add_flag("--at-q1", o->at_q1,
+                "also the last stable state, at q1; without --at the static run takes the "
+                "adaptive steps of `granstab q1`, so this is the state `granstab q1` stops at");
   cmd->add_option("--f0", o->probe_options.f0,
                   "perturbation forces in [-f0, f0] (units of aP, SPEC 3.5); 0: hold only")
       ->capture_default_str()

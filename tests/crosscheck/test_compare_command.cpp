@@ -1,5 +1,6 @@
-// `granstab compare` and `granstab plot` end to end: the JSON fields are present and consistent
-// with the CSV files, bad input gives a clear error and no output, the pictures are drawn.
+// `granstab compare`, `granstab plot` and `granstab probe` end to end: the JSON fields are present
+// and consistent with the CSV files, bad input gives a clear error and no output, the pictures are
+// drawn, probe --at-q1 takes the state `granstab q1` stops at.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -148,6 +149,37 @@ TEST(CompareCommandErrors, BadInputGivesAClearErrorAndNoOutput) {
   r = dir.run("plot '" + root.string() + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("compare.json"), std::string::npos) << r.err;
+}
+
+// The question `--at-q1` answers (is the state where the static run stopped a stable equilibrium
+// of the dynamic module?) needs the very state `granstab q1` stops at: the same adaptive path,
+// hence the same q1 bits. At mu 0.5, dq 0.01 fixed steps end 3e-16 lower (0.8147955322265628
+// against ...625, the sums of the steps), so a probe that took the fixed path would fail here.
+TEST(ProbeCommand, AtQ1ProbesTheStateThatQ1StopsAt) {
+  const Workdir dir("probe-at-q1");
+  const std::string common = " --mu 0.5 --dq 0.01 --quiet";
+  const CommandResult q1 = dir.run("q1 '" + sample.string() + "'" + common + " --hill off --out q");
+  ASSERT_EQ(q1.exit_code, 0) << q1.err;
+  const double q1_value = json_number(slurp(dir / "q/q1.json"), "q1");
+
+  const CommandResult probe =
+      dir.run("probe '" + sample.string() + "'" + common + " --at-q1 --f0 0 --save s --out p");
+  ASSERT_EQ(probe.exit_code, 0) << probe.err;
+  const auto rows = read_csv(dir / "p/probe.csv");
+  ASSERT_EQ(rows.size(), 1u) << slurp(dir / "p/probe.csv");
+  EXPECT_EQ(rows[0].at("q"), q1_value);
+  int saved = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "s"))
+    saved += entry.path().filename().string().rfind("static_q_", 0) == 0;
+  EXPECT_EQ(saved, 2);  // the state and the state without its overlapping rattlers
+}
+
+TEST(ProbeCommand, NothingToProbeIsRefusedWithoutOutput) {
+  const Workdir dir("probe-nothing");
+  const CommandResult r = dir.run("probe '" + sample.string() + "' --dq 0.01 --out p");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("give --at, --at-q1 or both"), std::string::npos) << r.err;
+  EXPECT_TRUE(dir.files().empty());
 }
 
 }  // namespace
