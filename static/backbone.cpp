@@ -177,6 +177,16 @@ std::vector<int> step_off_lone_contacts(const Network& net, const std::vector<in
   return disks;
 }
 
+int escaped_disk(const Network& before, const Network& after) {
+  // The walls at 0 stay, the others move with the lengths: the affine map of both boundaries.
+  const double s0 = after.length[0] / before.length[0], s1 = after.length[1] / before.length[1];
+  for (std::size_t i = 0; i < before.n_disks() && i < after.n_disks(); ++i) {
+    const double ux = after.x[i] - s0 * before.x[i], uy = after.y[i] - s1 * before.y[i];
+    if (!(std::hypot(ux, uy) <= before.radius[i])) return static_cast<int>(i);
+  }
+  return -1;
+}
+
 namespace {
 
 // What a rattler at displacement y (from where it is) must keep clear of: a disk whose centre is

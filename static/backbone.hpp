@@ -39,6 +39,13 @@ std::vector<int> step_off_lone_contacts(const Network& net, const std::vector<in
                                         const std::vector<ContactState>& states,
                                         Eigen::VectorXd& dq);
 
+// The first disk whose position in `after` lies more than its radius from where the cell's affine
+// motion since `before` takes it, or -1 (the same disks in both). A step that moves a disk so far
+// has followed a floppy mode to an equilibrium far from the state, and the contacts such a motion
+// would meet on its way are not seen (closing_contacts reads the end state only): load_step fails
+// it.
+int escaped_disk(const Network& before, const Network& after);
+
 // Moves each listed rattler that overlaps two or more of its listed contacts at dq (states) to
 // the nearest place within 0.1 of its radius where each such overlap h has opened to a gap of
 // 0.01 h, no other overlap deepens and no gap loses more than half of itself (exact circle and

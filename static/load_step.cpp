@@ -240,6 +240,16 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
   lu_statistics().phase = phase_before;
   if (!step.ok) return step;
   advance(trial, step.corrector.dq, step.corrector.states);
+  // Series A, N = 3025, seed 1, K_T/K_N = 1: three disks against a frictionless wall, each left
+  // with one contact in a failed Newton iterate that had moved them 4.3e6 along the wall (their
+  // block singular there), became rattlers at that place, outside the cell, and the run went on.
+  // No disk may move by more than its radius in one step, rattlers made in it included.
+  if (const int i = escaped_disk(net, trial); i >= 0) {
+    step.ok = false;
+    step.failure = "corrector: disk " + std::to_string(i) +
+                   " moves by more than its radius in one step (a floppy mode)";
+    return step;
+  }
   net = std::move(trial);
   return step;
 }

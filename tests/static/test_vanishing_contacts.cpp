@@ -156,6 +156,31 @@ TEST(VanishingContacts, LoneContactsNameTheLastClosedContactOfADisk) {
   EXPECT_NEAR(after, -0.01 * h, 1e-3 * h);  // to first order in h / d
 }
 
+// A step that moves a disk by more than its radius has followed a floppy mode (series A, N = 3025:
+// three disks slid 4.3e6 along a frictionless wall and became rattlers there): escaped_disk names
+// the first such disk, its motion counted from where the cell's affine motion takes it.
+TEST(VanishingContacts, EscapedDiskIsTheFirstMovedByMoreThanItsRadius) {
+  Network before = network_from_configuration(read_configuration(sample));
+  Network after = before;
+  EXPECT_EQ(escaped_disk(before, after), -1);
+  // The cell shrinks by 1 % in x and grows by 1 % in y, every disk with it: no escape.
+  after.length = {0.99 * before.length[0], 1.01 * before.length[1]};
+  for (std::size_t i = 0; i < after.n_disks(); ++i) {
+    after.x[i] = 0.99 * before.x[i];
+    after.y[i] = 1.01 * before.y[i];
+  }
+  EXPECT_EQ(escaped_disk(before, after), -1);
+  const int a = 3, b = 7;
+  const double rb = before.radius[b], ra = before.radius[a];
+  after.x[b] += 0.99 * rb / std::sqrt(2.0);  // just within the radius, along a diagonal
+  after.y[b] += 0.99 * rb / std::sqrt(2.0);
+  EXPECT_EQ(escaped_disk(before, after), -1);
+  after.y[b] += 0.03 * rb;
+  EXPECT_EQ(escaped_disk(before, after), b);
+  after.x[a] -= 1.5 * ra;
+  EXPECT_EQ(escaped_disk(before, after), a);  // the first in disk order
+}
+
 // A rattler made inside a step can be closed on by the disks around it in the rounds after
 // (series A, N = 3025). Overlapped twice it would carry unbalanced forces at the next preparation:
 // clear_rattler_overlaps moves it by the shortest displacement that opens them. A rattler whose
