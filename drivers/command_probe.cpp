@@ -2,7 +2,7 @@
 // given loads, and at q1, written as configurations (--save DIR) and probed by the dynamic engine:
 // SIC hold of q, then random perturbations with release (drivers/stability_probe.hpp). Issue #6:
 // is a static state past some q an unstable equilibrium for the dynamic module? And at q1: does
-// the dynamic module confirm the loss of stability where the static run stopped?
+// the dynamic module hold the state where the static run stopped, as every state below q1?
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
