@@ -11,7 +11,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -74,19 +73,23 @@ void run_probe(ProbeCommandOptions o) {
          "perturbation_steps,max_loaded_d_eps2,max_released_d_eps2,final_d_eps2,final_d_epsv,"
          "stable\n";
   std::vector<crosscheck::ProbeResult> probes;
-  // The loads asked for, then q1's state (the last stable one) with --at-q1.
-  std::vector<std::pair<double, const statics::Network*>> targets;
+  // The loads asked for, then q1's state (the last stable one) with --at-q1: the load that names
+  // the files (the one asked for), the state's own load and the state.
+  struct Target {
+    double q, load;
+    const statics::Network* network;
+  };
+  std::vector<Target> targets;
   for (const double q : o.at) {
     const crosscheck::StaticState* at_q = crosscheck::static_state_at(states, q, tolerance);
     if (!at_q) {
       std::printf("%9.6f beyond the static q1 = %.9g: not probed\n", q, full.statics.q1);
       continue;
     }
-    targets.emplace_back(at_q->load, &at_q->network);
+    targets.push_back({q, at_q->load, &at_q->network});
   }
-  if (o.at_q1) targets.emplace_back(full.statics.q1, &full.statics.network_at_q1);
-  for (const auto& [load, network] : targets) {
-    const double q = load;
+  if (o.at_q1) targets.push_back({full.statics.q1, full.statics.q1, &full.statics.network_at_q1});
+  for (const auto& [q, load, network] : targets) {
     const Configuration state = crosscheck::configuration_of_static_state(*network, full.start);
     const std::vector<char> overlaps = crosscheck::overlapping_rattlers(*network, state);
     if (!o.save.empty()) {
