@@ -11,6 +11,12 @@ namespace granstab::statics {
 
 std::vector<char> force_carrying_disks(const Network& net,
                                        const std::vector<ContactState>& states) {
+  std::vector<char> carries(states.size());
+  for (std::size_t c = 0; c < states.size(); ++c) carries[c] = states[c].f_n > 0.0;
+  return force_carrying_disks(net, carries);
+}
+
+std::vector<char> force_carrying_disks(const Network& net, const std::vector<char>& carries) {
   const std::size_t n = net.n_disks();
   std::vector<char> carrying(n, 1);
   if (!net.constraints.remove_rattlers) return carrying;
@@ -24,10 +30,10 @@ std::vector<char> force_carrying_disks(const Network& net,
   const Contacts& k = net.contacts;
   std::vector<int> count(n, 0), start(n + 1, 0), neighbour;
   const auto between_disks = [&](std::size_t c) {
-    return states[c].f_n > 0.0 && !is_wall(k.j[c]) && k.i[c] != k.j[c];
+    return carries[c] && !is_wall(k.j[c]) && k.i[c] != k.j[c];
   };
   for (std::size_t c = 0; c < k.size(); ++c) {
-    if (states[c].f_n <= 0.0) continue;
+    if (!carries[c]) continue;
     ++count[k.i[c]];
     if (!is_wall(k.j[c])) ++count[k.j[c]];
     if (!between_disks(c)) continue;
@@ -58,6 +64,18 @@ std::vector<char> force_carrying_disks(const Network& net,
     }
   }
   return carrying;
+}
+
+std::vector<int> caught_rattlers(const Network& net, const std::vector<ContactState>& states) {
+  // rebuild_degrees_of_freedom's rule at dq: with every disk active, a listed contact carries
+  // force where it overlaps.
+  std::vector<char> overlapping(states.size());
+  for (std::size_t c = 0; c < states.size(); ++c) overlapping[c] = states[c].frame.h > 0.0;
+  const std::vector<char> carrying = force_carrying_disks(net, overlapping);
+  std::vector<int> caught;
+  for (std::size_t i = 0; i < net.n_disks(); ++i)
+    if (net.dofs.is_rattler(i) && carrying[i]) caught.push_back(static_cast<int>(i));
+  return caught;
 }
 
 void rebuild_degrees_of_freedom(Network& net) {

@@ -10,6 +10,14 @@ namespace granstab::statics {
 // Disks that carry force: iteratively remove disks with fewer than 2 force-carrying contacts
 // (SPEC §2). Walls never leave; fixed disks (Constraints::disk_fixed) always stay.
 std::vector<char> force_carrying_disks(const Network& net, const std::vector<ContactState>& states);
+// The same with the force-carrying contacts given (carries[c]).
+std::vector<char> force_carrying_disks(const Network& net, const std::vector<char>& carries);
+
+// The rattlers that rebuild_degrees_of_freedom would give dofs back at the end of a step whose
+// contact states at dq are `states`: their listed contacts overlap there (the cage moved onto a
+// rattler carried affinely with the cell), and at the next preparation they would be disks with
+// contacts out of balance.
+std::vector<int> caught_rattlers(const Network& net, const std::vector<ContactState>& states);
 
 // Rebuilds net.dofs from the constraints and the current force-carrying disks: rattlers carry
 // no dofs; in a periodic cell without fixed disks, one backbone disk's u is removed.
