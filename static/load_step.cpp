@@ -209,12 +209,12 @@ StepResult load_step(Network& net, const SolverOptions& options, Timings* timing
       // in the step (caught_rattlers): once it rejoins, the state accepted would otherwise be no
       // equilibrium, by K_N times those overlaps (the same sample, seed 1: relative residuals of
       // 1e-2 to 3e-2 after three steps; its fixed steps stopped at q = 0.7215 after one).
-      std::vector<int> loose = made_rattlers;
+      std::vector<int> to_clear = made_rattlers;
       const std::vector<int> caught = caught_rattlers(trial, step.corrector.states);
-      loose.insert(loose.end(), caught.begin(), caught.end());
+      to_clear.insert(to_clear.end(), caught.begin(), caught.end());
       std::vector<int> jammed;
       const bool moved =
-          !clear_rattler_overlaps(trial, loose, step.corrector.dq, step.corrector.states, jammed)
+          !clear_rattler_overlaps(trial, to_clear, step.corrector.dq, step.corrector.states, jammed)
                .empty();
       if (!jammed.empty() && round < options.max_closing_rounds) {
         dq = step.corrector.dq;

@@ -1,7 +1,9 @@
 // A rattler that the cage closes on must be pushed along (xcheck's finding on periodic-n100 at
 // mu = 0.5: active disks overlapped rattlers by up to 1.4e-3 a, the static state was no
 // equilibrium for the dynamic module). With SolverOptions::push_rattlers, closing_contacts finds
-// the pair and the load step gives the rattler dofs in the same step (activate_disks).
+// the pair and the load step gives the rattler dofs in the same step (activate_disks). Without
+// the option, a rattler whose *listed* contacts the cage closes is still cleared or given dofs in
+// the step (caught_rattlers), so that the state accepted is an equilibrium.
 #include <gtest/gtest.h>
 
 #include <cmath>
