@@ -6,11 +6,13 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <string_view>
 
 #include "contact_forces_law.hpp"
 #include "contact_forces_simd.hpp"
 #include "force_pass_team.hpp"
+#include "halo.hpp"
 
 namespace granstab::dynamic {
 namespace {
@@ -61,7 +63,8 @@ struct KernelScratch {
   std::vector<std::uint8_t> closed;
   std::vector<double> fx, fy, fvx, fvy, torque_i, torque_j;
   std::vector<std::int32_t> touched;
-  simd::PairBlock view(DiskArrays& d, PairState& pairs, const ForceInputs& in, int count) {
+  simd::PairBlock view(DiskArrays& d, PairState& pairs, const std::int32_t* read_j,
+                       const ForceInputs& in, int count) {
     const std::size_t n = static_cast<std::size_t>(count) + simd::lanes - 1;
     if (closed.size() < n) {
       closed.resize(n);
@@ -78,7 +81,7 @@ struct KernelScratch {
     v.vvx = in.vx_viscous;
     v.vvy = in.vy_viscous;
     v.pair_i = pairs.i.data();
-    v.pair_j = pairs.j.data();
+    v.pair_j = read_j;
     v.alpha = pairs.alpha.data();
     v.delta_t = pairs.delta_t.data();
     v.f_n = pairs.f_n.data();
@@ -248,13 +251,14 @@ template <bool Periodic, Sweep How>
 // (before the sweep reads them from its scratch); `touched`: how many it listed.
 template <Sweep How>
 [[gnu::always_inline]] inline simd::PairBlock run_kernel(DiskArrays& d, PairState& s,
+                                                         const std::int32_t* read_j,
                                                          const ForceInputs& in, const PassInputs& a,
                                                          int begin, int end, int& touched) {
   [[maybe_unused]] simd::PairBlock kernel{};
   touched = 0;
   if constexpr (How == Sweep::step_simd) {
     thread_local KernelScratch scratch;
-    kernel = scratch.view(d, s, in, end - begin);
+    kernel = scratch.view(d, s, read_j, in, end - begin);
     // A copy: a's address must not escape, or GCC reloads its members after every store.
     const PairLawConstants k = a.k;
     touched = simd::pair_law(kernel, k, in.periodic, a.l1, a.l2, begin, end);
@@ -275,7 +279,7 @@ template <bool Crossing, bool Periodic>
                                                        int range_begin, int& next_closed,
                                                        int& next_opened, BlockSums& sums) {
   const std::int32_t* const pair_i = pairs.i.data();
-  const std::int32_t* const pair_j = pairs.j.data();
+  const std::int32_t* const pair_j = pairs.j_slot.data();  // j itself unless the pair crosses
   double* const fx = d.fx.data();
   double* const fy = d.fy.data();
   double* const fvx = d.fvx.data();
@@ -320,11 +324,12 @@ template <bool Crossing, bool Periodic, Sweep How>
   BlockSums sums = block_sums;
   const PassInputs a(d, in);
   const std::int32_t* const row_start = pairs.row_start.data();
-  const std::int32_t* const pair_j = pairs.j.data();
+  const std::int32_t* const pair_j = pairs.j_slot.data();  // j itself unless the pair crosses
   const int range_begin = row_start[first], range_end = row_start[end];
   int next_closed = range_begin, next_opened = range_end;
   int touched;
-  const simd::PairBlock kernel = run_kernel<How>(d, pairs, in, a, range_begin, range_end, touched);
+  const simd::PairBlock kernel =
+      run_kernel<How>(d, pairs, pair_j, in, a, range_begin, range_end, touched);
   if constexpr (How == Sweep::step_simd) {
     touched_pair_forces<Crossing, Periodic>(d, pairs, a, kernel, touched, range_begin, next_closed,
                                             next_opened, sums);
@@ -367,7 +372,7 @@ template <bool Periodic, Sweep How>
   if (begin < end) {
     const PassInputs a(d, in);
     int touched;
-    const simd::PairBlock kernel = run_kernel<How>(d, m, in, a, begin, end, touched);
+    const simd::PairBlock kernel = run_kernel<How>(d, m, m.j.data(), in, a, begin, end, touched);
     for (int p = begin; p < end; ++p) {
       const RowDisk di(a, m.i[p]);
       const int j = m.j[p];
@@ -513,15 +518,20 @@ void contact_forces_part(const TeamMember& member, DiskArrays& disks, PairArrays
   run_part(member, disks, pairs, blocks, clear, mirrors, rows, true, finish);
 }
 
-BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs,
+                                 const std::function<ForceInputs()>& inputs,
                                  std::vector<BlockSums>& blocks) {
   SpinBarrier barrier;
   const std::size_t n = disks.size();
+  ForceInputs in = inputs();
   on_team(
       in.parallel ? omp_get_max_threads() : 1, barrier,
       [&](int team) {
-        if (pairs.team != team) plan_parts(pairs, n, even_parts(n, team));
+        if (pairs.team != team) plan_parts(disks, pairs, even_parts(n, team));
+        // The ghosts of the arrays this pass reads (a step leaves omega's stale).
+        fill_ghosts(disks, pairs.halo);
         size_passes(n, pairs, blocks);
+        in = inputs();  // a new plan may have moved the arrays (their ghosts)
       },
       [&](const TeamMember& member) { contact_forces_part(member, disks, pairs, in, blocks); });
   return sum_blocks(blocks, n, in.periodic);

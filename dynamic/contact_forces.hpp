@@ -6,6 +6,7 @@
 // thread count and of when the Verlet list was last rebuilt (open pairs contribute nothing).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "common/material.hpp"
@@ -25,7 +26,8 @@ struct ForceInputs {
   // periodic cells, affine strain rates dL_a/dt / L_a; walls, velocities of the mobile walls.
   std::array<double, 2> rate_tangential{0.0, 0.0};
   std::array<double, 2> rate_viscous{0.0, 0.0};
-  // Disk velocities of the contact law (in a time step, those at t + dt/2: DiskArrays::vhx ..).
+  // Disk velocities of the contact law (in a time step, those at t + dt/2, which the drift left
+  // in DiskArrays::vx ..).
   const double* vx = nullptr;
   const double* vy = nullptr;
   const double* omega = nullptr;
@@ -40,9 +42,11 @@ struct ForceInputs {
 };
 
 // Elastic, frictional and viscous forces of a state (no increment of delta_t unless in.dt > 0),
-// on a team of its own (in.parallel) or the calling thread. Sums (stress, wall forces) of the
-// whole sample are returned; blocks is scratch space.
-BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs, const ForceInputs& in,
+// on a team of its own (in.parallel) or the calling thread, with the inputs that `inputs` gives
+// (called again once the team is planned: a new plan may move the disk arrays). Sums (stress,
+// wall forces) of the whole sample are returned; blocks is scratch space.
+BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs,
+                                 const std::function<ForceInputs()>& inputs,
                                  std::vector<BlockSums>& blocks);
 
 // --- the passes of a time step, run by a team inside one parallel region (engine.cpp) -------

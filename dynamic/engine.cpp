@@ -11,6 +11,7 @@
 
 #include "cell_control.hpp"
 #include "common/contact_law.hpp"
+#include "halo.hpp"
 #include "integrator.hpp"
 
 namespace granstab {
@@ -86,8 +87,8 @@ Engine::Engine(const Configuration& config, const EngineOptions& options)
                         cell_.length[1]);
     }
   }
-  for (auto* v : {&disks_.vhx, &disks_.vhy, &disks_.omega_h, &disks_.vpx, &disks_.vpy, &disks_.fx,
-                  &disks_.fy, &disks_.torque, &disks_.fvx, &disks_.fvy}) {
+  for (auto* v : {&disks_.vpx, &disks_.vpy, &disks_.fx, &disks_.fy, &disks_.torque, &disks_.fvx,
+                  &disks_.fvy}) {
     v->assign(n, 0.0);
   }
   for (auto& w : disks_.wall_delta_t) w.assign(n, 0.0);
@@ -140,10 +141,9 @@ ForceInputs Engine::force_inputs(const dynamic::CellState& cell, double dt_tange
     in.rate_tangential[a] = cell.length_rate[a] * scale;
     in.rate_viscous[a] = (mid_step ? cell.rate_predicted[a] : cell.length_rate[a]) * scale;
   }
-  const bool apart = mid_step && mid_step_apart();
-  in.vx = apart ? disks_.vhx.data() : disks_.vx.data();
-  in.vy = apart ? disks_.vhy.data() : disks_.vy.data();
-  in.omega = apart ? disks_.omega_h.data() : disks_.omega.data();
+  in.vx = disks_.vx.data();
+  in.vy = disks_.vy.data();
+  in.omega = disks_.omega.data();
   in.vx_viscous = mid_step ? disks_.vpx.data() : disks_.vx.data();
   in.vy_viscous = mid_step ? disks_.vpy.data() : disks_.vy.data();
   in.parallel = parallel();
@@ -151,7 +151,8 @@ ForceInputs Engine::force_inputs(const dynamic::CellState& cell, double dt_tange
 }
 
 void Engine::evaluate_state() {
-  sums_ = dynamic::compute_contact_forces(disks_, pairs_, force_inputs(cell_, 0.0, false), blocks_);
+  sums_ = dynamic::compute_contact_forces(
+      disks_, pairs_, [&] { return force_inputs(cell_, 0.0, false); }, blocks_);
   control_cell(cell_, sums_);
 }
 
@@ -194,7 +195,7 @@ void Engine::run(std::uint64_t steps) {
     const int team = alone ? 1 : threads;
     const auto prepare = [&](int t) {
       if (alone) {
-        if (pairs_.team != 1) dynamic::plan_parts(pairs_, n, dynamic::even_parts(n, 1));
+        if (pairs_.team != 1) dynamic::plan_parts(disks_, pairs_, dynamic::even_parts(n, 1));
       } else {
         if (!dynamic::valid_parts(part_blocks_, n, t)) {
           part_blocks_ = dynamic::valid_parts(options_.part_blocks, n, t)
@@ -202,7 +203,7 @@ void Engine::run(std::uint64_t steps) {
                              : dynamic::even_parts(n, t);
           pairs_.team = 0;
         }
-        if (pairs_.team != t) dynamic::plan_parts(pairs_, n, part_blocks_);
+        if (pairs_.team != t) dynamic::plan_parts(disks_, pairs_, part_blocks_);
       }
       dynamic::size_passes(n, pairs_, blocks_);
       viscous_blocks_.resize(blocks_.size());
@@ -363,17 +364,24 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   const bool team = member.threads > 1;
   if (team) team_slots_[member.thread].cpu = sched_getcpu();
   const std::array<double, 2> lambda = dynamic::kick_drift_cell(cell, stage_, dt_);
-  const double d2 = dynamic::kick_drift_disks(disks_, cell, lambda, dt_, neighbours_, first, end,
-                                              mid_step_apart());
+  const double d2 = dynamic::kick_drift_disks(disks_, cell, lambda, dt_, neighbours_, first, end);
   team_slots_[member.thread].max_d2 = d2;
+  // The halo (Halo, state.hpp): this thread's disks that other parts read, packed for them.
+  const bool halo = pairs_.team > 1;
+  if (halo) {
+    for (int part = member.part_first; part < member.part_end; ++part)
+      dynamic::pack_mid_step(disks_, pairs_.halo, part);
+  }
+  bool planned = false;  // a new plan has filled the ghosts (plan_parts)
   if (balance) {
     member.clock->arrive();  // its work since the last balance, up to this barrier
     team_slots_[member.thread].busy = member.clock->busy;
     member.clock->busy = 0.0;
     member.barrier->wait();
-    if (member.thread == 0) balance_parts();
+    if (member.thread == 0) team_slots_[0].planned = balance_parts();
     member.barrier->wait();
     member.clock->leave();
+    planned = team_slots_[0].planned;
   } else {
     member.sync();
   }
@@ -391,26 +399,40 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
     if (member.thread == 0) {
       neighbours_.rebuild(disks_, cell, pairs_, material_);
       // The split this run has (one part when one thread runs a timed team's steps).
-      dynamic::plan_parts(pairs_, n, pairs_.part_block);
+      dynamic::plan_parts(disks_, pairs_, pairs_.part_block);
     }
     member.sync();
     local.rebuild_test = neighbours_.rebuild_test();
+    planned = true;
+  }
+  if (halo && !planned) {
+    for (int part = member.part_first; part < member.part_end; ++part)
+      dynamic::unpack_mid_step(disks_, pairs_.halo, part);
   }
   ForceInputs in = force_inputs(cell, dt_, true);
   in.kick = true;  // the disks' second half kick, as each disk's forces are complete
   dynamic::contact_forces_part(member, disks_, pairs_, in, blocks_);
+  const bool viscous = material_.zeta != 0.0;
+  if (halo && viscous) {
+    for (int part = member.part_first; part < member.part_end; ++part)
+      dynamic::pack_final(disks_, pairs_.halo, part);
+  }
   member.sync();  // the final velocities, which the viscous refresh reads
+  if (halo && viscous) {
+    for (int part = member.part_first; part < member.part_end; ++part)
+      dynamic::unpack_final(disks_, pairs_.halo, part);
+  }
   sums =
       dynamic::relay_sum_blocks(member, blocks_, pairs_, n, cell.periodic(), relay_, ++local.epoch);
   control_cell(cell, sums);
   dynamic::kick_cell(cell, stage_, dt_);
   // The viscous forces of the final velocities (zeta = 0: alpha = 0, they are exact zeros,
   // and fvx, fvy hold zeros already).
-  if (material_.zeta != 0.0) {
+  if (viscous) {
     dynamic::viscous_forces_part(member, disks_, pairs_, force_inputs(cell, 0.0, false),
                                  viscous_blocks_);
-    // No barrier: the next step's drift touches nothing the refresh reads (it writes the
-    // mid-step velocities, not vx, vy), and the relay hands the sums on.
+    // No barrier: the next step's drift writes this thread's disks only (the others' refresh
+    // reads their ghosts), and the relay hands the sums on.
     const BlockSums v = dynamic::relay_sum_blocks(member, viscous_blocks_, pairs_, n,
                                                   cell.periodic(), relay_, ++local.epoch);
     sums.sigma_viscous = v.sigma_viscous;
@@ -425,14 +447,16 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
 }
 
 // Thread 0, between two barriers of the team (the others read pairs_ only after the second).
-void Engine::balance_parts() {
+// Returns whether the split moved (a new plan).
+bool Engine::balance_parts() {
   std::vector<double> busy(team_slots_.size());
   for (std::size_t t = 0; t < busy.size(); ++t) busy[t] = team_slots_[t].busy;
   std::vector<std::int32_t> parts = dynamic::balanced_parts(part_blocks_, busy, 0.03);
-  if (parts == part_blocks_) return;
+  if (parts == part_blocks_) return false;
   part_blocks_ = std::move(parts);
   ++part_moves_;
-  dynamic::plan_parts(pairs_, disks_.size(), part_blocks_);
+  dynamic::plan_parts(disks_, pairs_, part_blocks_);
+  return true;
 }
 
 void Engine::set_dt(double dt) {
@@ -521,7 +545,7 @@ void Engine::set_material(const Material& material) {
         material_.damping_coefficient(disks_.mass[pairs_.i[p]], disks_.mass[pairs_.j[p]]);
   }
   // The mirrors of the pairs across the parts copy alpha too.
-  if (pairs_.team > 0) dynamic::plan_parts(pairs_, disks_.size(), pairs_.part_block);
+  if (pairs_.team > 0) dynamic::plan_parts(disks_, pairs_, pairs_.part_block);
   if (new_time_scale) {
     const double m_min = *std::min_element(disks_.mass.begin(), disks_.mass.end());
     time_scale_ = std::sqrt(m_min / material_.k_n);

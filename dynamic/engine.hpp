@@ -118,12 +118,12 @@ class Engine {
   double force_x(std::size_t i) const { return disks_.fx[i] + disks_.fvx[i]; }
   double force_y(std::size_t i) const { return disks_.fy[i] + disks_.fvy[i]; }
   double torque(std::size_t i) const { return disks_.torque[i]; }
-  std::span<const double> x() const { return disks_.x; }
-  std::span<const double> y() const { return disks_.y; }
-  std::span<const double> vx() const { return disks_.vx; }
-  std::span<const double> vy() const { return disks_.vy; }
-  std::span<const double> omega() const { return disks_.omega; }
-  std::span<const double> radius() const { return disks_.radius; }
+  std::span<const double> x() const { return std::span(disks_.x).first(size()); }
+  std::span<const double> y() const { return std::span(disks_.y).first(size()); }
+  std::span<const double> vx() const { return std::span(disks_.vx).first(size()); }
+  std::span<const double> vy() const { return std::span(disks_.vy).first(size()); }
+  std::span<const double> omega() const { return std::span(disks_.omega).first(size()); }
+  std::span<const double> radius() const { return std::span(disks_.radius).first(size()); }
   double kinetic_energy() const;       // translation (fluctuating velocities) + rotation
   double elastic_energy() const;       // K_N h^2 / 2 + K_T delta_t^2 / 2 over all contacts
   double cell_kinetic_energy() const;  // sum_a M_a (dL_a/dt)^2 / 2
@@ -139,10 +139,6 @@ class Engine {
  private:
   static void check_axis(int axis);  // throws std::invalid_argument unless 0 or 1
   bool parallel() const { return disks_.size() >= options_.parallel_min_disks; }
-  // Whether a step keeps the mid-step velocities apart (DiskArrays::vhx ..): on a team split into
-  // parts, whose halo pairs read another part's while its thread kicks them. One part kicks over
-  // them, which saves the traffic of three more arrays (~6 % at N = 5600).
-  bool mid_step_apart() const { return pairs_.team > 1; }
   void evaluate_state();  // forces and cell acceleration of the current state (no increment)
   bool apply_stage(const Stage& stage);
   void control_cell() { control_cell(cell_, sums_); }
@@ -164,7 +160,7 @@ class Engine {
   std::uint64_t window_steps() const;
   // Thread 0 after a window of the team: how many steps one thread runs next (0: none).
   std::uint64_t alone_after(double team_seconds);
-  void balance_parts();  // thread 0, while the team waits
+  bool balance_parts();  // thread 0, while the team waits; whether the split moved
   dynamic::ForceInputs force_inputs(const dynamic::CellState& cell, double dt_tangential,
                                     bool mid_step) const;
   void import_contacts(const Contacts& contacts);
@@ -190,6 +186,7 @@ class Engine {
     double busy = 0.0;  // work seconds since the last balance (at a balance step)
     int cpu = -1;
     bool hand_over = false;  // thread 0's slot only: run alone from the next step
+    bool planned = false;    // thread 0's slot only: the balance moved the split
   };
   // What a timed team knows of its speed against one thread (EngineOptions::
   // timed_team_max_disks), across runs: one thread's seconds per step in its last stretch; how

@@ -94,14 +94,14 @@ Configuration Engine::configuration() const {
 
 void Engine::export_to(Configuration& out) const {
   const std::size_t n = disks_.size();
-  out.disks.x.assign(disks_.x.begin(), disks_.x.end());
-  out.disks.y.assign(disks_.y.begin(), disks_.y.end());
-  out.disks.radius.assign(disks_.radius.begin(), disks_.radius.end());
+  out.disks.x.assign(disks_.x.begin(), disks_.x.begin() + n);
+  out.disks.y.assign(disks_.y.begin(), disks_.y.begin() + n);
+  out.disks.radius.assign(disks_.radius.begin(), disks_.radius.begin() + n);
   out.disks.mass.assign(disks_.mass.begin(), disks_.mass.end());
   out.disks.inertia.assign(disks_.inertia.begin(), disks_.inertia.end());
-  out.disks.vx.assign(disks_.vx.begin(), disks_.vx.end());
-  out.disks.vy.assign(disks_.vy.begin(), disks_.vy.end());
-  out.disks.omega.assign(disks_.omega.begin(), disks_.omega.end());
+  out.disks.vx.assign(disks_.vx.begin(), disks_.vx.begin() + n);
+  out.disks.vy.assign(disks_.vy.begin(), disks_.vy.begin() + n);
+  out.disks.omega.assign(disks_.omega.begin(), disks_.omega.begin() + n);
   out.disks.theta.assign(disks_.theta.begin(), disks_.theta.end());
   out.cell = cell_.cell();
   out.material = material_;

@@ -28,52 +28,26 @@ std::array<double, 2> kick_drift_cell(CellState& cell, const Stage& stage, doubl
 }
 
 namespace {
-// Where the mid-step velocities go: apart (DiskArrays::vhx ..) or over the velocities.
-struct MidStep {
-  double *vx, *vy, *omega;
-  MidStep(DiskArrays& d, bool apart)
-      : vx(apart ? d.vhx.data() : d.vx.data()),
-        vy(apart ? d.vhy.data() : d.vy.data()),
-        omega(apart ? d.omega_h.data() : d.omega.data()) {}
-};
-
-simd::DriftBlock simd_block(DiskArrays& d, const MidStep& h, const double* ref_x,
-                            const double* ref_y) {
-  return {d.x.data(),
-          d.y.data(),
-          d.vx.data(),
-          d.vy.data(),
-          d.omega.data(),
-          h.vx,
-          h.vy,
-          h.omega,
-          d.vpx.data(),
-          d.vpy.data(),
-          d.theta.data(),
-          d.fx.data(),
-          d.fy.data(),
-          d.fvx.data(),
-          d.fvy.data(),
-          d.torque.data(),
-          d.inv_mass.data(),
-          d.inv_inertia.data(),
-          ref_x,
-          ref_y};
+simd::DriftBlock simd_block(DiskArrays& d, const double* ref_x, const double* ref_y) {
+  return {d.x.data(),   d.y.data(),   d.vx.data(),     d.vy.data(),       d.omega.data(),
+          d.vpx.data(), d.vpy.data(), d.theta.data(),  d.fx.data(),       d.fy.data(),
+          d.fvx.data(), d.fvy.data(), d.torque.data(), d.inv_mass.data(), d.inv_inertia.data(),
+          ref_x,        ref_y};
 }
 
 template <bool Periodic>
-double kick_drift_scalar(DiskArrays& d, const MidStep& h, const DriftConstants& k,
-                         const double* ref_x, const double* ref_y, int first, int end) {
+double kick_drift_scalar(DiskArrays& d, const DriftConstants& k, const double* ref_x,
+                         const double* ref_y, int first, int end) {
   double max_d2 = 0.0;
   for (int i = first; i < end; ++i) {
     const Drifted<double> o = drift_disk<Periodic>(
         k, d.x[i], d.y[i], d.vx[i], d.vy[i], d.omega[i], d.theta[i], d.fx[i], d.fy[i], d.fvx[i],
         d.fvy[i], d.torque[i], d.inv_mass[i], d.inv_inertia[i], ref_x[i], ref_y[i]);
-    h.vx[i] = o.vx;
-    h.vy[i] = o.vy;
+    d.vx[i] = o.vx;
+    d.vy[i] = o.vy;
     d.vpx[i] = o.vpx;
     d.vpy[i] = o.vpy;
-    h.omega[i] = o.omega;
+    d.omega[i] = o.omega;
     // Used: cleared for the force pass, which adds every disk's pair forces into them.
     d.fx[i] = d.fy[i] = d.fvx[i] = d.fvy[i] = d.torque[i] = 0.0;
     d.x[i] = o.x;
@@ -86,8 +60,7 @@ double kick_drift_scalar(DiskArrays& d, const MidStep& h, const DriftConstants& 
 }  // namespace
 
 double kick_drift_disks(DiskArrays& d, const CellState& cell, std::array<double, 2> lambda,
-                        double dt, const NeighbourList& neighbours, int first, int end,
-                        bool mid_step_apart) {
+                        double dt, const NeighbourList& neighbours, int first, int end) {
   const bool periodic = cell.periodic();
   const double l1 = cell.length[0], l2 = cell.length[1];
   // Non-affine displacement since the build: in reduced coordinates, times current lengths.
@@ -103,12 +76,11 @@ double kick_drift_disks(DiskArrays& d, const CellState& cell, std::array<double,
                          periodic ? l2 : 1.0};
   const double* ref_x = neighbours.reference_x().data();
   const double* ref_y = neighbours.reference_y().data();
-  const MidStep h(d, mid_step_apart);
   if (simd_pairs()) {
-    return simd::kick_drift(simd_block(d, h, ref_x, ref_y), k, periodic, first, end);
+    return simd::kick_drift(simd_block(d, ref_x, ref_y), k, periodic, first, end);
   }
-  return periodic ? kick_drift_scalar<true>(d, h, k, ref_x, ref_y, first, end)
-                  : kick_drift_scalar<false>(d, h, k, ref_x, ref_y, first, end);
+  return periodic ? kick_drift_scalar<true>(d, k, ref_x, ref_y, first, end)
+                  : kick_drift_scalar<false>(d, k, ref_x, ref_y, first, end);
 }
 
 void kick_cell(CellState& cell, const Stage& stage, double dt) {

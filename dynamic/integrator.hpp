@@ -17,16 +17,14 @@ namespace granstab::dynamic {
 // affine part in a periodic cell; walls: 1).
 std::array<double, 2> kick_drift_cell(CellState& cell, const Stage& stage, double dt);
 
-// For the disks [first, end): v(t + dt/2) = v(t) + dt/2 a(t) (the same for omega), into vhx,
-// vhy, omega_h if mid_step_apart (a team split into parts: DiskArrays), else over vx, vy,
-// omega; then r(t + dt) = lambda r(t) + dt v(t + dt/2); predicts the end-of-step velocities for the
-// viscous force (vpx, vpy) and leaves the per-disk force sums at zero for the force pass
-// (contact_forces_part with kick). `cell` is the one kick_drift_cell returned lambda for.
-// Returns the largest non-affine displacement since the last list build (squared, in current
-// lengths) of these disks.
+// For the disks [first, end): v(t + dt/2) = v(t) + dt/2 a(t) (the same for omega), over vx, vy,
+// omega (a team's other parts read their ghosts: Halo); then r(t + dt) = lambda r(t) + dt v(t +
+// dt/2); predicts the end-of-step velocities for the viscous force (vpx, vpy) and leaves the
+// per-disk force sums at zero for the force pass (contact_forces_part with kick). `cell` is the one
+// kick_drift_cell returned lambda for. Returns the largest non-affine displacement since the last
+// list build (squared, in current lengths) of these disks.
 double kick_drift_disks(DiskArrays& disks, const CellState& cell, std::array<double, 2> lambda,
-                        double dt, const NeighbourList& neighbours, int first, int end,
-                        bool mid_step_apart);
+                        double dt, const NeighbourList& neighbours, int first, int end);
 
 // dL/dt(t + dt) = dL/dt(t + dt/2) + dt/2 d2L/dt2(t + dt) on stress-controlled axes. The disks'
 // second half kick is done by the force pass as soon as each disk's forces are complete

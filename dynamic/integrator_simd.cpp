@@ -29,11 +29,11 @@ template <bool Periodic, bool Full>
       k, load(b.x), load(b.y), load(b.vx), load(b.vy), load(b.omega), load(b.theta), load(b.fx),
       load(b.fy), load(b.fvx), load(b.fvy), load(b.torque), load(b.inv_mass), load(b.inv_inertia),
       load(b.ref_x), load(b.ref_y));
-  store(b.vhx, o.vx);
-  store(b.vhy, o.vy);
+  store(b.vx, o.vx);
+  store(b.vy, o.vy);
   store(b.vpx, o.vpx);
   store(b.vpy, o.vpy);
-  store(b.omega_h, o.omega);
+  store(b.omega, o.omega);
   for (double* f : {b.fx, b.fy, b.fvx, b.fvy, b.torque}) store(f, Double8(0.0));
   store(b.x, o.x);
   store(b.y, o.y);

@@ -9,8 +9,7 @@ namespace granstab::dynamic::simd {
 
 struct DriftBlock {
   double *x, *y;
-  const double *vx, *vy, *omega;  // at t
-  double *vhx, *vhy, *omega_h;    // at t + dt/2 (written; may be vx, vy, omega)
+  double *vx, *vy, *omega;  // at t, then (written) at t + dt/2
   double *vpx, *vpy, *theta;
   double *fx, *fy, *fvx, *fvy, *torque;  // read, then cleared
   const double *inv_mass, *inv_inertia, *ref_x, *ref_y;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "halo.hpp"
+
 namespace granstab::dynamic {
 
 std::vector<std::int32_t> even_parts(std::size_t n, int team) {
@@ -52,8 +54,9 @@ std::vector<std::int32_t> balanced_parts(const std::vector<std::int32_t>& part_b
 
 // Which pairs cross a split into parts (part_block): those whose j lies in a later part than
 // their i. Each gets a mirror in j's part (PairArrays::mirrors, ascending pair within a part),
-// with a copy of its state: the same bits, both being the synchronous state's.
-void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t>& part_block) {
+// with a copy of its state: the same bits, both being the synchronous state's. Then the halo.
+void plan_parts(DiskArrays& disks, PairArrays& pairs, const std::vector<std::int32_t>& part_block) {
+  const std::size_t n = disks.size();
   const int nb = block_count(n);
   const int team = static_cast<int>(part_block.size()) - 1;
   std::vector<std::int32_t> part_of_block(nb);
@@ -100,6 +103,7 @@ void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t
   mirrors.part_closed.assign(team, 0);
   mirrors.part_opened.assign(team, 0);
   pairs.team = team;
+  plan_halo(disks, pairs, part_of_block);
 }
 
 std::array<int, 2> part_disks(const PairArrays& pairs, std::size_t n, int part) {

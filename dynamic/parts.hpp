@@ -20,9 +20,10 @@ bool valid_parts(const std::vector<std::int32_t>& part_block, std::size_t n, int
 std::vector<std::int32_t> balanced_parts(const std::vector<std::int32_t>& part_block,
                                          const std::vector<double>& busy, double tolerance);
 // The split's crossing pairs (j in a later part than i) and their mirrors in j's part, with a
-// copy of the pairs' state (PairArrays::mirrors): after every list rebuild, for a new team size
-// and when the split moves. part_block may be pairs.part_block itself (a replan of the split).
-void plan_parts(PairArrays& pairs, std::size_t n, const std::vector<std::int32_t>& part_block);
+// copy of the pairs' state (PairArrays::mirrors), and the halo (PairArrays::halo, its ghosts
+// filled): after every list rebuild, for a new team size and when the split moves. part_block
+// may be pairs.part_block itself (a replan of the split).
+void plan_parts(DiskArrays& disks, PairArrays& pairs, const std::vector<std::int32_t>& part_block);
 std::array<int, 2> part_disks(const PairArrays& pairs, std::size_t n, int part);  // [first, end)
 
 }  // namespace granstab::dynamic

@@ -46,10 +46,6 @@ struct DiskArrays {
   // Velocities predicted at the end of the step, used only by the viscous force (which depends
   // on the velocity it is meant to change).
   LineVector<double> vpx, vpy;
-  // Velocities at t + dt/2 in a time step: the drift writes them, the force pass reads them and
-  // its second half kick writes vx, vy, omega from them. So a thread can kick its disks while
-  // another still reads their mid-step velocities (the partners of its halo pairs).
-  LineVector<double> vhx, vhy, omega_h;
   LineVector<double> fx, fy, torque;  // elastic + frictional contact forces + external forces
   LineVector<double> fvx, fvy;        // viscous contact forces (normal, so no torque)
   LineVector<double> ext_fx, ext_fy;  // external forces; empty when none is applied
@@ -57,7 +53,26 @@ struct DiskArrays {
   // state, and whether the contact was closed (the next step needs to know if it opens).
   std::array<LineVector<double>, 4> wall_delta_t, wall_f_v;
   std::array<LineVector<std::uint8_t>, 4> wall_closed;
-  std::size_t size() const { return x.size(); }
+  // The arrays a pass reads of a pair's partner (x, y, radius, vx, vy, omega, vpx, vpy) hold,
+  // after the N disks, the ghost copies of a team's halo (Halo): mass does not.
+  std::size_t size() const { return mass.size(); }
+};
+
+// A team's halo (plan_parts, halo.hpp): the disks of other parts that a part's passes read
+// (the partners of its crossing pairs and the disks i of its mirrors), copied to ghost slots
+// N + g of the disk arrays that the passes read. Part k's ghosts are g in [ghost_start[k],
+// ghost_start[k + 1]), ascending by disk; its thread alone writes and reads them. Each step
+// the owner of a ghosted disk packs its values into `buffer` after writing them, and the
+// ghost's part copies them out after the barrier: one stream of whole lines instead of
+// scattered lines of the other core's arrays (docs/dynamic.md, "Performance").
+struct Halo {
+  static constexpr int stride = 8;            // per ghost in `buffer`: 7 values, one line
+  LineVector<std::int32_t> ghost_disk;        // per ghost: the disk it copies
+  LineVector<std::int32_t> ghost_start;       // team + 1
+  LineVector<std::int32_t> sent, sent_start;  // ghosts by the part that owns their disk
+  LineVector<double> buffer;                  // stride per ghost: the values in transit
+  LineVector<double> final_buffer;            // 2 per ghost: vx, vy after the force pass
+  std::size_t size() const { return ghost_disk.size(); }
 };
 
 // The state of a listed pair that the force pass carries from step to step, and the frame of
@@ -76,11 +91,12 @@ struct PairState {
   std::size_t size() const { return i.size(); }
 };
 
-// Pairs of a team's part whose i lies in an earlier part (its "halo"): copies of those listed
+// Pairs of a team's part whose i lies in an earlier part: copies of those listed
 // pairs, with a state of their own, which the part's thread computes again (the same inputs,
 // the same operations, so the same bits as the listed pair) and adds to its disk j only, before
 // its own rows. The listed pair adds to its i only. So no disk gets additions from two threads,
-// and every disk's sums keep their order (docs/dynamic.md, "Determinism").
+// and every disk's sums keep their order (docs/dynamic.md, "Determinism"). A mirror's i is the
+// slot of disk i's ghost in j's part (Halo).
 struct MirrorPairs : PairState {
   LineVector<std::int32_t> part_start;  // team + 1: part k's mirrors, in the list's order
   LineVector<std::int32_t> part_closed, part_opened;  // per part, as PairArrays::block_closed
@@ -103,7 +119,11 @@ struct PairArrays : PairState {
   std::vector<std::int32_t> part_block;
   LineVector<std::uint8_t> crossing;        // per pair: j in a later part than i
   LineVector<std::uint8_t> block_crossing;  // per block: one of its rows has a crossing pair
+  // Per pair: where the passes read disk j: j, or for a crossing pair its ghost slot in i's
+  // part (N + g). (The mirrors' i are their ghost slots in j's part.)
+  LineVector<std::int32_t> j_slot;
   MirrorPairs mirrors;
+  Halo halo;
 };
 
 struct CellState {

@@ -13,9 +13,10 @@ namespace {
 // handed to add(p, i, j, fvx, fvy, dx, dy) in that order. The opened pairs listed in
 // [opened_begin, opened_end) drop their share.
 template <bool Periodic, class Add>
-[[gnu::always_inline]] inline void viscous_sweep(PairState& s, const ForceInputs& in,
-                                                 int closed_begin, int closed_end, int opened_begin,
-                                                 int opened_end, Add add) {
+[[gnu::always_inline]] inline void viscous_sweep(PairState& s, const std::int32_t* read_j,
+                                                 const ForceInputs& in, int closed_begin,
+                                                 int closed_end, int opened_begin, int opened_end,
+                                                 Add add) {
   const double rate_v1 = Periodic ? in.rate_viscous[0] : 0.0;
   const double rate_v2 = Periodic ? in.rate_viscous[1] : 0.0;
   const double* const vvx = in.vx_viscous;
@@ -26,7 +27,7 @@ template <bool Periodic, class Add>
   }
   for (int k = closed_begin; k < closed_end; ++k) {
     const int p = s.active[k];
-    const int i = s.i[p], j = s.j[p];
+    const int i = s.i[p], j = read_j[p];
     const double dx = s.lx[p], dy = s.ly[p];
     ContactFrame f{};
     f.nx = s.nx[p];
@@ -51,8 +52,9 @@ template <bool Crossing, bool Periodic>
   double* const fvx_sum = d.fvx.data();
   double* const fvy_sum = d.fvy.data();
   const int range_begin = pairs.row_start[first], range_end = pairs.row_start[end];
-  viscous_sweep<Periodic>(pairs, in, range_begin, range_begin + pairs.block_closed[b],
-                          range_end - pairs.block_opened[b], range_end,
+  viscous_sweep<Periodic>(pairs, pairs.j_slot.data(), in, range_begin,
+                          range_begin + pairs.block_closed[b], range_end - pairs.block_opened[b],
+                          range_end,
                           [&](int p, int i, int j, double fvx, double fvy, double dx, double dy) {
                             sums.sigma_viscous[0] += fvx * dx;
                             sums.sigma_viscous[1] += fvy * dy;
@@ -74,7 +76,8 @@ template <bool Periodic>
   double* const fvx_sum = d.fvx.data();
   double* const fvy_sum = d.fvy.data();
   const int begin = m.part_start[part], end = m.part_start[part + 1];
-  viscous_sweep<Periodic>(m, in, begin, begin + m.part_closed[part], end - m.part_opened[part], end,
+  viscous_sweep<Periodic>(m, m.j.data(), in, begin, begin + m.part_closed[part],
+                          end - m.part_opened[part], end,
                           [&](int, int, int j, double fvx, double fvy, double, double) {
                             fvx_sum[j] += fvx;
                             fvy_sum[j] += fvy;
