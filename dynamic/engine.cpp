@@ -368,10 +368,11 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
   team_slots_[member.thread].max_d2 = d2;
   // The halo (Halo, state.hpp): this thread's disks that other parts read, packed for them.
   const bool halo = pairs_.team > 1;
-  if (halo) {
+  const auto on_parts = [&](auto exchange) {
     for (int part = member.part_first; part < member.part_end; ++part)
-      dynamic::pack_mid_step(disks_, pairs_.halo, part);
-  }
+      exchange(disks_, pairs_.halo, part);
+  };
+  if (halo) on_parts(dynamic::pack_mid_step);
   bool planned = false;  // a new plan has filled the ghosts (plan_parts)
   if (balance) {
     member.clock->arrive();  // its work since the last balance, up to this barrier
@@ -409,23 +410,14 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
     local.rebuild_test = neighbours_.rebuild_test();
     planned = true;
   }
-  if (halo && !planned) {
-    for (int part = member.part_first; part < member.part_end; ++part)
-      dynamic::unpack_mid_step(disks_, pairs_.halo, part);
-  }
+  if (halo && !planned) on_parts(dynamic::unpack_mid_step);
   ForceInputs in = force_inputs(cell, dt_, true);
   in.kick = true;  // the disks' second half kick, as each disk's forces are complete
   dynamic::contact_forces_part(member, disks_, pairs_, in, blocks_);
   const bool viscous = material_.zeta != 0.0;
-  if (halo && viscous) {
-    for (int part = member.part_first; part < member.part_end; ++part)
-      dynamic::pack_final(disks_, pairs_.halo, part);
-  }
+  if (halo && viscous) on_parts(dynamic::pack_final);
   member.sync();  // the final velocities, which the viscous refresh reads
-  if (halo && viscous) {
-    for (int part = member.part_first; part < member.part_end; ++part)
-      dynamic::unpack_final(disks_, pairs_.halo, part);
-  }
+  if (halo && viscous) on_parts(dynamic::unpack_final);
   sums =
       dynamic::relay_sum_blocks(member, blocks_, pairs_, n, cell.periodic(), relay_, ++local.epoch);
   control_cell(cell, sums);

@@ -7,9 +7,8 @@ namespace granstab::dynamic {
 
 namespace {
 // The arrays a pass reads of a pair's partner (the ghosts' arrays).
-template <class Disks>
-auto ghosted_arrays(Disks& d) {
-  return std::array{&d.x, &d.y, &d.radius, &d.vx, &d.vy, &d.omega, &d.vpx, &d.vpy};
+std::array<LineVector<double>*, 8> ghosted_arrays(DiskArrays& d) {
+  return {&d.x, &d.y, &d.radius, &d.vx, &d.vy, &d.omega, &d.vpx, &d.vpy};
 }
 }  // namespace
 
