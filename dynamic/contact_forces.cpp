@@ -527,9 +527,13 @@ BlockSums compute_contact_forces(DiskArrays& disks, PairArrays& pairs,
   on_team(
       in.parallel ? omp_get_max_threads() : 1, barrier,
       [&](int team) {
-        if (pairs.team != team) plan_parts(disks, pairs, even_parts(n, team));
-        // The ghosts of the arrays this pass reads (a step leaves omega's stale).
-        fill_ghosts(disks, pairs.halo);
+        // The ghosts of the arrays this pass reads: a new plan fills them; a step leaves
+        // omega's stale.
+        if (pairs.team != team) {
+          plan_parts(disks, pairs, even_parts(n, team));
+        } else {
+          fill_ghosts(disks, pairs.halo);
+        }
         size_passes(n, pairs, blocks);
         in = inputs();  // a new plan may have moved the arrays (their ghosts)
       },
