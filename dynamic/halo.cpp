@@ -29,6 +29,9 @@ void plan_halo(DiskArrays& disks, PairArrays& pairs,
       wanted[part].push_back(mirrors.i[q]);
   }
   h.ghost_start.assign(team + 1, 0);
+  std::size_t wanted_count = 0;
+  for (const auto& w : wanted) wanted_count += w.size();
+  keep_room(h.ghost_disk, wanted_count);  // at least the ghosts
   h.ghost_disk.clear();
   for (int part = 0; part < team; ++part) {
     auto& w = wanted[part];
@@ -43,6 +46,7 @@ void plan_halo(DiskArrays& disks, PairArrays& pairs,
     return static_cast<std::int32_t>(n +
                                      (std::lower_bound(first, last, disk) - h.ghost_disk.begin()));
   };
+  keep_room(pairs.j_slot, m);
   pairs.j_slot.assign(pairs.j.begin(), pairs.j.end());
   for (std::size_t p = 0; p < m; ++p) {
     if (pairs.crossing[p]) pairs.j_slot[p] = slot(part_of(pairs.i[p]), pairs.j[p]);
@@ -56,13 +60,19 @@ void plan_halo(DiskArrays& disks, PairArrays& pairs,
   h.sent_start.assign(team + 1, 0);
   for (std::size_t g = 0; g < ghosts; ++g) ++h.sent_start[part_of(h.ghost_disk[g]) + 1];
   for (int part = 0; part < team; ++part) h.sent_start[part + 1] += h.sent_start[part];
+  keep_room(h.sent, ghosts);
   h.sent.resize(ghosts);
   std::vector<std::int32_t> next(h.sent_start.begin(), h.sent_start.end() - 1);
   for (std::size_t g = 0; g < ghosts; ++g)
     h.sent[next[part_of(h.ghost_disk[g])]++] = static_cast<std::int32_t>(g);
+  keep_room(h.buffer, Halo::stride * ghosts);
+  keep_room(h.final_buffer, 2 * ghosts);
   h.buffer.resize(Halo::stride * ghosts);
   h.final_buffer.resize(2 * ghosts);
-  for (auto* v : ghosted_arrays(disks)) v->resize(n + ghosts);
+  for (auto* v : ghosted_arrays(disks)) {
+    keep_room(*v, n + ghosts);
+    v->resize(n + ghosts);
+  }
   fill_ghosts(disks, h);
 }
 

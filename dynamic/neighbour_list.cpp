@@ -94,6 +94,15 @@ void NeighbourList::rebuild(DiskArrays& disks, const CellState& cell, PairArrays
     ref_sy_[i] = disks.y[i] * sy;
   }
   ref_length_ = cell.length;
+  // Both lists' arrays (the next rebuild swaps them) and the search's, with room to grow.
+  for (auto* v : {&pairs.i, &pairs.j, &pairs.active, &old_i_, &old_j_}) keep_room(*v, m);
+  for (auto* v : {&pairs.alpha, &pairs.delta_t, &pairs.viscous_x, &pairs.viscous_y, &pairs.nx,
+                  &pairs.ny, &pairs.lx, &pairs.ly, &pairs.f_n, &old_delta_t_, &old_f_n_,
+                  &old_viscous_x_, &old_viscous_y_}) {
+    keep_room(*v, m);
+  }
+  for (auto* v : {&found_.i, &found_.j, &found_.k1, &found_.k2}) keep_room(*v, m);
+  keep_room(old_row_start_, n + 1);
   max_displacement2_ = 0.0;
   built_ = true;
   ++rebuilds_;

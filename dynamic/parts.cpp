@@ -66,6 +66,7 @@ void plan_parts(DiskArrays& disks, PairArrays& pairs, const std::vector<std::int
   const auto part_of = [&](int disk) { return part_of_block[disk / block_size]; };
   const std::size_t m = pairs.size();
   pairs.part_block = part_block;
+  keep_room(pairs.crossing, m);
   pairs.crossing.assign(m, 0);
   pairs.block_crossing.assign(nb, 0);
   MirrorPairs& mirrors = pairs.mirrors;
@@ -85,6 +86,7 @@ void plan_parts(DiskArrays& disks, PairArrays& pairs, const std::vector<std::int
     if (pairs.crossing[p]) source[next[part_of(pairs.j[p])]++] = static_cast<std::int32_t>(p);
   }
   const auto copy = [&](auto& to, const auto& from) {
+    keep_room(to, count);
     to.resize(count);
     for (std::size_t k = 0; k < count; ++k) to[k] = from[source[k]];
   };
@@ -99,6 +101,7 @@ void plan_parts(DiskArrays& disks, PairArrays& pairs, const std::vector<std::int
   copy(mirrors.lx, pairs.lx);
   copy(mirrors.ly, pairs.ly);
   copy(mirrors.f_n, pairs.f_n);
+  keep_room(mirrors.active, count);
   mirrors.active.resize(count);
   mirrors.part_closed.assign(team, 0);
   mirrors.part_opened.assign(team, 0);

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "common/pair_search.hpp"
+#include "dynamic/neighbour_list.hpp"
 #include "helpers.hpp"
 
 namespace granstab {
@@ -71,6 +72,49 @@ TEST(NeighbourList, NoContactMissedWhileTheCellDeforms) {
     e.run(40);
     expect_all_contacts_found(e);
   }
+}
+
+TEST(NeighbourList, RebuildsOfAGrowingListStayInTheFirstBuildsRoom) {
+  // A rebuild fills one of two sets of per-pair arrays and reads the other (the old list, whose
+  // state it carries over); the next rebuild swaps them. The first build leaves room in both
+  // (keep_room), so that the rebuilds inside a run, the list a few % longer each time, allocate
+  // nothing: no fresh pages in the run loop. (Without that room the second rebuild here moves
+  // to new storage: checked by hand.)
+  Configuration c = testing::random_gas(400, 0.5, Material::from_kappa(1e3, 1.0, 0.3, 0.7), 5);
+  const std::size_t n = c.disks.size();
+  dynamic::DiskArrays disks;
+  for (auto* v : {&disks.x, &disks.y, &disks.radius, &disks.mass}) v->assign(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    disks.x[i] = c.disks.x[i];
+    disks.y[i] = c.disks.y[i];
+    disks.radius[i] = c.disks.radius[i];
+    disks.mass[i] = c.disks.mass[i];
+  }
+  dynamic::CellState cell;
+  cell.length = c.cell.length;
+  dynamic::PairArrays pairs;
+  dynamic::NeighbourList list(0.5);
+  std::vector<std::size_t> sizes;
+  std::vector<std::vector<const void*>> storage;
+  for (int build = 0; build < 4; ++build) {
+    list.rebuild(disks, cell, pairs, c.material);
+    sizes.push_back(pairs.size());
+    storage.push_back({pairs.i.data(), pairs.j.data(), pairs.delta_t.data(), pairs.f_n.data(),
+                       pairs.viscous_x.data(), pairs.viscous_y.data(), pairs.alpha.data(),
+                       pairs.nx.data(), pairs.lx.data(), pairs.active.data()});
+    // An affine compression of 1 %: more pairs within reach at the next build.
+    for (std::size_t i = 0; i < n; ++i) {
+      disks.x[i] *= 0.99;
+      disks.y[i] *= 0.99;
+    }
+    for (double& l : cell.length) l *= 0.99;
+  }
+  for (int build = 1; build < 4; ++build) {
+    ASSERT_GT(sizes[build], sizes[build - 1]);
+    ASSERT_LT(sizes[build], sizes[0] + sizes[0] / 8);  // within the room
+  }
+  EXPECT_EQ(storage[2], storage[0]);
+  EXPECT_EQ(storage[3], storage[1]);
 }
 
 }  // namespace
