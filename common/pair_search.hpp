@@ -2,6 +2,7 @@
 // Cell-list pair search (periodic-image aware): every pair of disks whose gap
 // |l| - R_i - R_j is below a margin. The MD engine builds its Verlet lists with it; the static
 // solver and the measurements use it to find contacts about to close (gap < margin).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -30,12 +31,25 @@ class PairSearch {
   void find(const double* x, const double* y, const double* radius, std::size_t n, const Cell& cell,
             double margin, PairList& out);
 
- private:
-  struct Partner {
-    std::int32_t j, k1, k2;
+  // find() in two halves, so that threads can search the rows of disjoint ranges of i at once:
+  // sort() the disks into cells (one thread), then rows(first, end) lists the pairs of
+  // i in [first, end), sorted by (i, j), into `out` (cleared first). Concatenated in the order of
+  // i, the rows of a partition of [0, n) are find()'s list. Each thread passes its own out and
+  // scratch; rows() only reads the search.
+  struct Scratch {
+    std::vector<std::array<std::int32_t, 3>> partners;  // (j, k1, k2) of one disk
   };
+  void sort(const double* x, const double* y, const double* radius, std::size_t n, const Cell& cell,
+            double margin);
+  void rows(std::size_t first, std::size_t end, PairList& out, Scratch& scratch) const;
+
+ private:
+  const double *x_ = nullptr, *y_ = nullptr, *radius_ = nullptr;
+  Cell cell_;
+  double margin_ = 0.0;
+  int nb_[2] = {1, 1};
   std::vector<std::int32_t> cell_start_, cell_fill_, cell_disks_, disk_cell_;
-  std::vector<Partner> partners_;  // partners of one disk, sorted by j before output
+  Scratch scratch_;
 };
 
 // Convenience for non-hot callers.

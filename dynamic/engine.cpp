@@ -397,16 +397,29 @@ bool Engine::step_on(const dynamic::TeamMember& member, Local& local, bool balan
     if (hand_over) *hand_over = team_slots_[0].hand_over;
   }
   if (local.rebuild_test(cell, local.max_d2)) {
-    if (member.thread == 0) {
-      // Not a part's work: out of the time the balance compares (else it moves blocks off
-      // thread 0 after each rebuild, 3 % of them at N = 22400).
-      if (member.clock) member.clock->arrive();
-      neighbours_.rebuild(disks_, cell, pairs_, material_);
+    // Each thread lists the rows of its own disks, so that they are written in its cache; thread
+    // 0 does the few serial steps. Out of the time the balance compares (thread 0's share would
+    // move blocks off it after each rebuild, 3 % of them at N = 22400).
+    const int t = member.thread;
+    const auto meet = [&] {
+      if (team) member.barrier->wait();
+    };
+    if (member.clock) member.clock->arrive();
+    if (t == 0) neighbours_.begin_rebuild(disks_, cell, pairs_, member.threads);
+    meet();
+    neighbours_.find_rows(t, first, end);
+    meet();
+    if (t == 0) neighbours_.size_list(pairs_, n);
+    meet();
+    neighbours_.fill_rows(disks_, cell, pairs_, material_, t, first, end);
+    meet();
+    if (t == 0) {
+      neighbours_.end_rebuild(cell, pairs_);
       // The split this run has (one part when one thread runs a timed team's steps).
       dynamic::plan_parts(disks_, pairs_, pairs_.part_block);
-      if (member.clock) member.clock->leave();
     }
-    member.sync();
+    meet();
+    if (member.clock) member.clock->leave();
     local.rebuild_test = neighbours_.rebuild_test();
     planned = true;
   }

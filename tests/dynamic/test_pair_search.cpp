@@ -68,6 +68,45 @@ TEST(PairSearch, MatchesBruteForceWalls) {
   check(Boundary::walls, 2.0, 40.0, 60, 0.2, 5);  // a single column of cells
 }
 
+TEST(PairSearch, RowsOfAPartitionConcatenateToTheList) {
+  // What a team's threads do (NeighbourList::find_rows): one sort, then the rows of disjoint
+  // ranges of i, here three uneven ones searched out of order, each with its own scratch.
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int n = 300;
+  std::vector<double> x(n), y(n), r(n);
+  for (int i = 0; i < n; ++i) {
+    x[i] = u(rng) * 18.0;
+    y[i] = u(rng) * 15.0;
+    r[i] = 0.25 + 0.25 * u(rng);
+  }
+  Cell cell;
+  cell.length = {18.0, 15.0};
+  const PairList whole = find_pairs(x, y, r, cell, 0.2);
+  PairSearch search;
+  search.sort(x.data(), y.data(), r.data(), n, cell, 0.2);
+  const int bounds[] = {0, 37, 201, n};
+  PairList parts[3];
+  PairSearch::Scratch scratch[3];
+  for (const int k : {2, 0, 1}) search.rows(bounds[k], bounds[k + 1], parts[k], scratch[k]);
+  PairList joined;
+  for (const PairList& p : parts) {
+    for (std::size_t q = 0; q < p.size(); ++q) {
+      EXPECT_GE(p.i[q], bounds[&p - parts]);
+      EXPECT_LT(p.i[q], bounds[&p - parts + 1]);
+    }
+    joined.i.insert(joined.i.end(), p.i.begin(), p.i.end());
+    joined.j.insert(joined.j.end(), p.j.begin(), p.j.end());
+    joined.k1.insert(joined.k1.end(), p.k1.begin(), p.k1.end());
+    joined.k2.insert(joined.k2.end(), p.k2.begin(), p.k2.end());
+  }
+  ASSERT_GT(parts[0].size() * parts[1].size() * parts[2].size(), 0u);
+  EXPECT_EQ(joined.i, whole.i);
+  EXPECT_EQ(joined.j, whole.j);
+  EXPECT_EQ(joined.k1, whole.k1);
+  EXPECT_EQ(joined.k2, whole.k2);
+}
+
 TEST(PairSearch, RejectsCellSmallerThanTwiceTheReach) {
   Cell cell;
   cell.length = {2.0, 10.0};
