@@ -60,19 +60,13 @@ void plan_halo(DiskArrays& disks, PairArrays& pairs,
   h.sent_start.assign(team + 1, 0);
   for (std::size_t g = 0; g < ghosts; ++g) ++h.sent_start[part_of(h.ghost_disk[g]) + 1];
   for (int part = 0; part < team; ++part) h.sent_start[part + 1] += h.sent_start[part];
-  keep_room(h.sent, ghosts);
-  h.sent.resize(ghosts);
+  resize_in_room(ghosts, h.sent);
   std::vector<std::int32_t> next(h.sent_start.begin(), h.sent_start.end() - 1);
   for (std::size_t g = 0; g < ghosts; ++g)
     h.sent[next[part_of(h.ghost_disk[g])]++] = static_cast<std::int32_t>(g);
-  keep_room(h.buffer, Halo::stride * ghosts);
-  keep_room(h.final_buffer, 2 * ghosts);
-  h.buffer.resize(Halo::stride * ghosts);
-  h.final_buffer.resize(2 * ghosts);
-  for (auto* v : ghosted_arrays(disks)) {
-    keep_room(*v, n + ghosts);
-    v->resize(n + ghosts);
-  }
+  resize_in_room(Halo::stride * ghosts, h.buffer);
+  resize_in_room(2 * ghosts, h.final_buffer);
+  for (auto* v : ghosted_arrays(disks)) resize_in_room(n + ghosts, *v);
   fill_ghosts(disks, h);
 }
 

@@ -69,15 +69,8 @@ void NeighbourList::size_list(PairArrays& pairs, std::size_t n) {
   for (std::size_t k = 0; k < parts_.size(); ++k)
     found_start_[k + 1] = found_start_[k] + parts_[k].found.size();
   const std::size_t m = found_start_.back();
-  for (auto* v : {&pairs.i, &pairs.j, &pairs.active}) {
-    keep_room(*v, m);
-    v->resize(m);
-  }
-  for (auto* v : {&pairs.alpha, &pairs.delta_t, &pairs.viscous_x, &pairs.viscous_y, &pairs.nx,
-                  &pairs.ny, &pairs.lx, &pairs.ly, &pairs.f_n}) {
-    keep_room(*v, m);
-    v->resize(m);
-  }
+  resize_in_room(m, pairs.i, pairs.j, pairs.active, pairs.alpha, pairs.delta_t, pairs.viscous_x,
+                 pairs.viscous_y, pairs.nx, pairs.ny, pairs.lx, pairs.ly, pairs.f_n);
   pairs.row_start.resize(n + 1);
   pairs.row_start[0] = 0;
   pairs.team = 0;  // the crossing pairs and their mirrors depend on the list

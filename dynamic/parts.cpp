@@ -86,8 +86,7 @@ void plan_parts(DiskArrays& disks, PairArrays& pairs, const std::vector<std::int
     if (pairs.crossing[p]) source[next[part_of(pairs.j[p])]++] = static_cast<std::int32_t>(p);
   }
   const auto copy = [&](auto& to, const auto& from) {
-    keep_room(to, count);
-    to.resize(count);
+    resize_in_room(count, to);
     for (std::size_t k = 0; k < count; ++k) to[k] = from[source[k]];
   };
   copy(mirrors.i, pairs.i);
@@ -101,8 +100,7 @@ void plan_parts(DiskArrays& disks, PairArrays& pairs, const std::vector<std::int
   copy(mirrors.lx, pairs.lx);
   copy(mirrors.ly, pairs.ly);
   copy(mirrors.f_n, pairs.f_n);
-  keep_room(mirrors.active, count);
-  mirrors.active.resize(count);
+  resize_in_room(count, mirrors.active);
   mirrors.part_closed.assign(team, 0);
   mirrors.part_opened.assign(team, 0);
   pairs.team = team;

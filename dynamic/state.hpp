@@ -52,6 +52,12 @@ void keep_room(Vector& v, std::size_t size) {
   v.swap(room);
 }
 
+// resize(size) within keep_room's room.
+template <class... Vectors>
+void resize_in_room(std::size_t size, Vectors&... vectors) {
+  ((keep_room(vectors, size), vectors.resize(size)), ...);
+}
+
 // Forces and torques cached per disk belong to the current synchronous state (time t): they are
 // a function of positions, velocities, delta_t and the cell only, so a state exported to a
 // Configuration and read back continues to the bit.
