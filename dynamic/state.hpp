@@ -38,8 +38,8 @@ using LineVector = std::vector<T, LineAllocator<T>>;
 
 // Room for `size` elements and a quarter more, the pages written once here, where the array
 // would otherwise grow: a list rebuild or a team's plan inside a run then fills its arrays without
-// page faults. (A run's first rebuilds at N = 22400 took ~1300 faults, ~10 us each on the VM of
-// bench/README.md: 14 ms, 3 % of a two-thread run of 1000 steps.) Keeps the contents.
+// page faults. (A run's first two rebuilds at N = 22400 took ~960 and ~330 faults, ~10 us each on
+// the VM of bench/README.md; a two-thread step there takes ~0.5 ms.) Keeps the contents.
 template <class Vector>
 void keep_room(Vector& v, std::size_t size) {
   if (v.capacity() >= size + size / 8) return;
